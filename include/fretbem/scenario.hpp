@@ -1,0 +1,93 @@
+// Scenario: a validated simulation description in SI units, read from an INI file
+// (Boost.Program_options config syntax) plus `section.key=value` overrides (DESIGN §4).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fretbem/grid.hpp"
+#include "fretbem/half_space.hpp"
+#include "fretbem/material.hpp"
+#include "fretbem/surface.hpp"
+
+namespace fretbem {
+
+enum class SurfaceType { sphere, flat, rough, file };
+enum class PathType { none, ramp, sine, table };
+enum class Control { force, displacement };
+enum class TangentialAlgorithm { projected, partition };
+enum class WearLaw { none, archard, energy };
+enum class WearIntegrator { arkode, cycle };
+
+struct SurfaceSpec {
+  SurfaceType type = SurfaceType::sphere;
+  double radius = 0.0;        ///< sphere radius (m)
+  RoughSpec rough;            ///< rough surfaces
+  std::filesystem::path file; ///< file surfaces (resolved against the scenario's folder)
+  std::string dataset;        ///< HDF5 dataset name for file surfaces ("" = first 2-D dataset)
+};
+
+struct LoadSpec {
+  std::optional<double> normal_force;  ///< constant normal force (N)
+  std::optional<double> indentation;   ///< constant indentation (m)
+  PathType path = PathType::none;
+  Control control = Control::force;
+  double amplitude = 0.0;               ///< tangential amplitude / (mu F_z) (force control)
+  double displacement_amplitude = 0.0;  ///< tangential amplitude (m) (displacement control)
+  double direction = 0.0;               ///< direction of the path in the x-y plane (degrees)
+  int cycles = 1;
+  int steps_per_cycle = 64;
+  int steps = 20;
+  std::filesystem::path table;          ///< CSV path table (resolved against the scenario)
+};
+
+struct SolverSpec {
+  double tolerance = 1e-10;  ///< relative residual of normal and tangential solves
+  int max_iterations = 5000;
+  Coupling coupling = Coupling::analogy;
+  int threads = 0;           ///< 0: all cores
+  TangentialAlgorithm algorithm = TangentialAlgorithm::projected;
+  bool stiffness = true;     ///< compute the exact differential stiffness kx every step
+  bool fft_measure = false;  ///< FFTW_MEASURE plans
+};
+
+struct OutputSpec {
+  std::filesystem::path dir = "out";
+  std::vector<std::string> fields;  ///< subset of pressure, traction_x, traction_y, state,
+                                    ///< slip_x, slip_y, dissipation, wear
+  int fields_every = 0;             ///< 0: only at turning points and the last step
+};
+
+struct WearSpec {
+  WearLaw law = WearLaw::none;
+  double coefficient = 0.0;  ///< Archard k (1/Pa) or energy alpha (m^3/J = 1/Pa)
+  double cycles = 0.0;       ///< cycle count N to integrate to
+  WearIntegrator integrator = WearIntegrator::arkode;
+  double rtol = 1e-3, atol = 1e-9;
+};
+
+struct Scenario {
+  std::string name;                  ///< file stem
+  std::string resolved_text;         ///< every key with its final value, INI syntax
+  Material material;
+  Grid grid;
+  SurfaceSpec surface;
+  LoadSpec load;
+  SolverSpec solver;
+  OutputSpec output;
+  WearSpec wear;
+};
+
+/// Reads, merges overrides ("section.key=value", applied after the file) and validates.
+/// Throws InputError with one line naming the file, key and value on any problem; unknown
+/// keys are rejected with the nearest valid name.
+Scenario load_scenario(const std::filesystem::path& file,
+                       const std::vector<std::string>& overrides = {});
+/// Same from text (name used in messages; relative paths resolve against base_dir).
+Scenario parse_scenario(const std::string& text, const std::string& name,
+                        const std::filesystem::path& base_dir,
+                        const std::vector<std::string>& overrides = {});
+
+}  // namespace fretbem
