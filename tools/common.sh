@@ -1,0 +1,100 @@
+# shellcheck shell=bash
+# Shared set-up for tools/quickstart.sh and tools/test.sh: install what is missing, then
+# configure and build. Sourced, not executed; callers have `set -euo pipefail`.
+#
+# Environment:
+#   FRETBEM_BUILD_DIR  build directory, relative to the repository root (default: build)
+#   FRETBEM_JOBS       parallel build jobs (default: ninja's own choice)
+#   FRETBEM_NO_INSTALL set to 1 to skip the package check (e.g. a machine you do not own)
+
+# The repository root, from this file's location, so the scripts work from any directory.
+FRETBEM_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+FRETBEM_BUILD_DIR="${FRETBEM_BUILD_DIR:-build}"
+
+# Everything the build and the tests need (CMakeLists.txt's find_package/pkg-config list).
+FRETBEM_REQUIRED_PACKAGES=(
+  build-essential cmake ninja-build pkg-config
+  libeigen3-dev libfftw3-dev libsundials-dev libhdf5-dev libboost-program-options-dev
+  libgtest-dev googletest
+)
+# Only the plotting scripts (tools/plot_*.py) and h5dump use these.
+FRETBEM_OPTIONAL_PACKAGES=(python3-numpy python3-h5py python3-matplotlib hdf5-tools)
+
+fretbem_log() { printf '==> %s\n' "$*" >&2; }
+
+# Prints the packages among "$@" that dpkg does not report as installed.
+fretbem_missing_packages() {
+  local pkg
+  for pkg in "$@"; do
+    if [[ "$(dpkg-query -W -f='${db:Status-Status}' "$pkg" 2>/dev/null || true)" != installed ]]; then
+      printf '%s\n' "$pkg"
+    fi
+  done
+}
+
+# Runs a command as root: directly when we are root (CI containers have no sudo), else via sudo.
+fretbem_as_root() {
+  if [[ "$(id -u)" -eq 0 ]]; then
+    "$@"
+  elif command -v sudo >/dev/null 2>&1; then
+    sudo "$@"
+  else
+    fretbem_log "need root to run: $*  (run as root or install sudo)"
+    return 1
+  fi
+}
+
+# Installs the missing packages of the given list; `apt-get update` only when something is
+# missing, so a provisioned machine never touches the network.
+# Usage: fretbem_install required|optional
+fretbem_install() {
+  local kind="$1" missing
+  local -a wanted
+  if [[ "$kind" == required ]]; then
+    wanted=("${FRETBEM_REQUIRED_PACKAGES[@]}")
+  else
+    wanted=("${FRETBEM_OPTIONAL_PACKAGES[@]}")
+  fi
+  if ! command -v dpkg-query >/dev/null 2>&1; then
+    fretbem_log "no dpkg-query: not a Debian system, assuming the $kind packages are present"
+    return 0
+  fi
+  mapfile -t missing < <(fretbem_missing_packages "${wanted[@]}")
+  if [[ ${#missing[@]} -eq 0 ]]; then
+    fretbem_log "$kind packages present"
+    return 0
+  fi
+  fretbem_log "installing $kind packages: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  fretbem_as_root apt-get update
+  fretbem_as_root apt-get install -y --no-install-recommends "${missing[@]}"
+}
+
+fretbem_install_dependencies() {
+  if [[ "${FRETBEM_NO_INSTALL:-0}" == 1 ]]; then
+    fretbem_log "FRETBEM_NO_INSTALL=1: skipping the package check"
+    return 0
+  fi
+  fretbem_install required
+  if [[ "${1:-}" == --with-optional ]]; then
+    # Plotting extras are a convenience: a failure here must not stop the build.
+    fretbem_install optional || fretbem_log "optional plotting packages not installed; continuing"
+  fi
+}
+
+# Configures (Release, Ninja) on first use and builds the given targets (default: all).
+fretbem_build() {
+  local dir="$FRETBEM_ROOT/$FRETBEM_BUILD_DIR"
+  local -a jobs=()
+  [[ -n "${FRETBEM_JOBS:-}" ]] && jobs=(--parallel "$FRETBEM_JOBS")
+  if [[ ! -f "$dir/CMakeCache.txt" ]]; then
+    fretbem_log "configuring $FRETBEM_BUILD_DIR/ (Release, Ninja)"
+    cmake -S "$FRETBEM_ROOT" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release
+  fi
+  fretbem_log "building ${*:-all targets}"
+  if [[ $# -gt 0 ]]; then
+    cmake --build "$dir" "${jobs[@]}" --target "$@"
+  else
+    cmake --build "$dir" "${jobs[@]}"
+  fi
+}
