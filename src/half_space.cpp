@@ -41,7 +41,9 @@ FftwBuffer<T> fftw_alloc(std::size_t n) {
   return FftwBuffer<T>(p);
 }
 
-double sinc(double x) { return x == 0.0 ? 1.0 : std::sin(x) / x; }
+double sinc(double x) {
+  return x == 0.0 ? 1.0 : std::sin(x) / x;
+}
 
 }  // namespace
 
@@ -81,11 +83,13 @@ struct HalfSpace::Fft {
   // Copies an (nx, ny) field into the top-left block of rin (padding stays zero).
   void load(const Field& f) {
     const int nx = int(f.rows()), ny = int(f.cols());
-    for (int j = 0; j < ny; ++j) std::copy_n(f.data() + std::size_t(j) * nx, nx, rin.get() + std::size_t(j) * n1);
+    for (int j = 0; j < ny; ++j)
+      std::copy_n(f.data() + std::size_t(j) * nx, nx, rin.get() + std::size_t(j) * n1);
   }
   void store(Field& f) const {
     const int nx = int(f.rows()), ny = int(f.cols());
-    for (int j = 0; j < ny; ++j) std::copy_n(rout.get() + std::size_t(j) * n1, nx, f.data() + std::size_t(j) * nx);
+    for (int j = 0; j < ny; ++j)
+      std::copy_n(rout.get() + std::size_t(j) * n1, nx, f.data() + std::size_t(j) * nx);
   }
   void r2c(fftw_complex* out) { fftw_execute_dft_r2c(forward, rin.get(), out); }
   void c2r(fftw_complex* in) { fftw_execute_dft_c2r(inverse, in, rout.get()); }
@@ -102,10 +106,10 @@ struct HalfSpace::Fft {
   }
 };
 
-HalfSpace::HalfSpace(const Grid& grid, const Material& material, Coupling coupling,
-                     FftOptions fft)
+HalfSpace::HalfSpace(const Grid& grid, const Material& material, Coupling coupling, FftOptions fft)
     : grid_(grid), coupling_(coupling) {
-  if (grid.nx < 1 || grid.ny < 1 || !(grid.h > 0)) throw std::invalid_argument("HalfSpace: empty grid");
+  if (grid.nx < 1 || grid.ny < 1 || !(grid.h > 0))
+    throw std::invalid_argument("HalfSpace: empty grid");
   const int f = grid.periodic ? 1 : 2;
   fft_ = std::make_unique<Fft>(f * grid.ny, f * grid.nx, fft);
   ratio_ = material.E_star() / material.G_star();

@@ -7,7 +7,9 @@ namespace fretbem::love {
 namespace {
 
 // X asinh(Y/|X|), continuous with value 0 at X = 0.
-double xasinh(double X, double Y) { return X == 0.0 ? 0.0 : X * std::asinh(Y / std::fabs(X)); }
+double xasinh(double X, double Y) {
+  return X == 0.0 ? 0.0 : X * std::asinh(Y / std::fabs(X));
+}
 
 // Corner sum over the cell: F(x+a, y+b) - F(x+a, y-b) - F(x-a, y+b) + F(x-a, y-b), with
 // X = x - x' running over [x-a, x+a] as x' runs over the cell.

@@ -5,8 +5,12 @@
 namespace fretbem {
 
 namespace {
-double normal_compliance(const Body& b) { return (1.0 - b.nu * b.nu) / b.E; }
-double tangential_compliance(const Body& b) { return (2.0 - b.nu) / (4.0 * b.G()); }
+double normal_compliance(const Body& b) {
+  return (1.0 - b.nu * b.nu) / b.E;
+}
+double tangential_compliance(const Body& b) {
+  return (2.0 - b.nu) / (4.0 * b.G());
+}
 }  // namespace
 
 double Material::E_star() const {

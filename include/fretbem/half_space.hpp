@@ -27,8 +27,7 @@ struct FftOptions {
 
 class HalfSpace {
  public:
-  HalfSpace(const Grid& grid, const Material& material, Coupling coupling,
-            FftOptions fft = {});
+  HalfSpace(const Grid& grid, const Material& material, Coupling coupling, FftOptions fft = {});
   ~HalfSpace();
   HalfSpace(const HalfSpace&) = delete;
   HalfSpace& operator=(const HalfSpace&) = delete;

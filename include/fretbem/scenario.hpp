@@ -23,10 +23,10 @@ enum class WearIntegrator { arkode, cycle };
 
 struct SurfaceSpec {
   SurfaceType type = SurfaceType::sphere;
-  double radius = 0.0;        ///< sphere radius (m)
-  RoughSpec rough;            ///< rough surfaces
-  std::filesystem::path file; ///< file surfaces (resolved against the scenario's folder)
-  std::string dataset;        ///< HDF5 dataset name for file surfaces ("" = first 2-D dataset)
+  double radius = 0.0;         ///< sphere radius (m)
+  RoughSpec rough;             ///< rough surfaces
+  std::filesystem::path file;  ///< file surfaces (resolved against the scenario's folder)
+  std::string dataset;         ///< HDF5 dataset name for file surfaces ("" = first 2-D dataset)
 };
 
 struct LoadSpec {
@@ -40,14 +40,14 @@ struct LoadSpec {
   int cycles = 1;
   int steps_per_cycle = 64;
   int steps = 20;
-  std::filesystem::path table;          ///< CSV path table (resolved against the scenario)
+  std::filesystem::path table;  ///< CSV path table (resolved against the scenario)
 };
 
 struct SolverSpec {
   double tolerance = 1e-10;  ///< relative residual of normal and tangential solves
   int max_iterations = 5000;
   Coupling coupling = Coupling::analogy;
-  int threads = 0;           ///< 0: all cores
+  int threads = 0;  ///< 0: all cores
   TangentialAlgorithm algorithm = TangentialAlgorithm::projected;
   bool stiffness = true;     ///< compute the exact differential stiffness kx every step
   bool fft_measure = false;  ///< FFTW_MEASURE plans
@@ -69,8 +69,8 @@ struct WearSpec {
 };
 
 struct Scenario {
-  std::string name;                  ///< file stem
-  std::string resolved_text;         ///< every key with its final value, INI syntax
+  std::string name;           ///< file stem
+  std::string resolved_text;  ///< every key with its final value, INI syntax
   Material material;
   Grid grid;
   SurfaceSpec surface;

@@ -1,0 +1,33 @@
+// Model: everything a run needs, built once from a validated Scenario — grid, material,
+// surface, half-space operator and the solvers on it (DESIGN §2).
+#pragma once
+
+#include <memory>
+
+#include "fretbem/load_path.hpp"
+#include "fretbem/normal_solver.hpp"
+#include "fretbem/scenario.hpp"
+#include "fretbem/stiffness.hpp"
+#include "fretbem/tangential_solver.hpp"
+
+namespace fretbem {
+
+struct Model {
+  Scenario scenario;
+  LoadPath path;
+  Field surface0;  ///< initial indenter height (m)
+  Field surface;   ///< current indenter height (m): changes only by wear
+  std::unique_ptr<HalfSpace> half_space;
+  std::unique_ptr<NormalSolver> normal;
+  std::unique_ptr<TangentialOperator> tangential_operator;
+  std::unique_ptr<TangentialSolver> tangential;
+  std::unique_ptr<StiffnessSolver> stiffness;  ///< null when solver.stiffness = false
+};
+
+/// Builds the surface and operators. The tangential operator is one-component (no y-solve)
+/// when the coupling is the analogy and the path is collinear.
+std::unique_ptr<Model> build_model(const Scenario& sc);
+/// The surface a scenario describes (generated, or loaded and checked against the grid).
+Field make_surface(const Scenario& sc);
+
+}  // namespace fretbem

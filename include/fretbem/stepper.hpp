@@ -1,0 +1,46 @@
+// Stepper: walks the load path. Per step: normal solve (only when the normal load or the
+// surface changed) -> tangential increment (only when its load or the bound changed) -> update
+// the InterfaceState -> observables -> observers (DESIGN §2).
+#pragma once
+
+#include <vector>
+
+#include "fretbem/model.hpp"
+#include "fretbem/observables.hpp"
+
+namespace fretbem {
+
+/// Receives every finished step; writers and progress lines are observers.
+class Observer {
+ public:
+  virtual ~Observer() = default;
+  virtual void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) = 0;
+  virtual void on_finish(const InterfaceState& /*state*/, const Model& /*model*/) {}
+};
+
+class Stepper {
+ public:
+  explicit Stepper(Model& model);
+  /// Runs every step of the path, notifying the observers after each.
+  void run(const std::vector<Observer*>& observers);
+  /// Runs step k only (k = 0 is the initial normal loading); returns its record.
+  StepRecord advance(std::size_t k);
+
+  const InterfaceState& state() const { return state_; }
+  std::size_t steps() const { return model_.path.steps.size(); }
+
+ private:
+  bool normal_step(const LoadStep& ls, StepRecord& rec);
+  void tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec);
+  void accumulate_slip(const VecField& u0, const Eigen::VectorXd& dU, StepRecord& rec);
+
+  Model& model_;
+  InterfaceState state_;
+  Field bound_;
+  std::optional<NormalLoad> last_normal_;
+  Eigen::VectorXd last_target_;
+  double dissipation_ = 0.0;
+  double wear_volume_ = 0.0;
+};
+
+}  // namespace fretbem

@@ -1,0 +1,59 @@
+#include "fretbem/model.hpp"
+
+#include <thread>
+
+#include "fretbem/errors.hpp"
+
+namespace fretbem {
+
+Field make_surface(const Scenario& sc) {
+  const Grid& g = sc.grid;
+  switch (sc.surface.type) {
+    case SurfaceType::sphere:
+      return sphere_surface(g, sc.surface.radius);
+    case SurfaceType::flat:
+      return flat_surface(g);
+    case SurfaceType::rough:
+      return rough_surface(g, sc.surface.rough);
+    case SurfaceType::file: {
+      Field z = load_height_map(sc.surface.file, sc.surface.dataset);
+      if (z.rows() != g.nx || z.cols() != g.ny)
+        throw InputError(sc.surface.file.string() + ": height map is " + std::to_string(z.rows()) +
+                         " x " + std::to_string(z.cols()) + " (x by y) but the grid is " +
+                         std::to_string(g.nx) + " x " + std::to_string(g.ny));
+      return z;
+    }
+  }
+  throw InputError("surface.type: unknown");
+}
+
+std::unique_ptr<Model> build_model(const Scenario& sc) {
+  auto m = std::make_unique<Model>();
+  m->scenario = sc;
+  m->path = make_load_path(sc);
+  m->surface0 = make_surface(sc);
+  m->surface = m->surface0;
+  FftOptions fft;
+  fft.threads = sc.solver.threads > 0 ? sc.solver.threads
+                                      : int(std::max(1u, std::thread::hardware_concurrency()));
+  fft.measure = sc.solver.fft_measure;
+  m->half_space = std::make_unique<HalfSpace>(sc.grid, sc.material, sc.solver.coupling, fft);
+  NormalOptions nopt{sc.solver.tolerance, sc.solver.max_iterations};
+  m->normal = std::make_unique<NormalSolver>(*m->half_space, nopt);
+  const auto dir = m->path.collinear_direction();
+  if (sc.solver.coupling == Coupling::analogy && dir)
+    m->tangential_operator = std::make_unique<TangentialOperator>(*m->half_space, *dir);
+  else
+    m->tangential_operator = std::make_unique<TangentialOperator>(*m->half_space);
+  TangentialOptions topt{sc.solver.tolerance, sc.solver.max_iterations};
+  if (sc.solver.algorithm == TangentialAlgorithm::partition)
+    m->tangential = std::make_unique<PartitionSolver>(*m->tangential_operator, topt);
+  else
+    m->tangential = std::make_unique<ProjectedCgSolver>(*m->tangential_operator, topt);
+  if (sc.solver.stiffness)
+    m->stiffness = std::make_unique<StiffnessSolver>(
+        *m->tangential_operator, std::max(sc.solver.tolerance, 1e-9), sc.solver.max_iterations);
+  return m;
+}
+
+}  // namespace fretbem

@@ -1,0 +1,116 @@
+#include "fretbem/stepper.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace fretbem {
+
+Stepper::Stepper(Model& model)
+    : model_(model), state_(InterfaceState::zeros(*model.tangential_operator)) {}
+
+void Stepper::run(const std::vector<Observer*>& observers) {
+  for (std::size_t k = 0; k < steps(); ++k) {
+    const StepRecord rec = advance(k);
+    for (auto* o : observers) o->on_step(rec, state_, model_);
+  }
+  for (auto* o : observers) o->on_finish(state_, model_);
+}
+
+StepRecord Stepper::advance(std::size_t k) {
+  const LoadStep& ls = model_.path.steps.at(k);
+  HalfSpace& hs = *model_.half_space;
+  const auto conv0 = hs.convolutions();
+  StepRecord rec;
+  rec.step = int(k);
+  rec.time = ls.time;
+  rec.cycle = ls.cycle;
+  rec.turning = ls.turning;
+  const bool bound_changed = normal_step(ls, rec);
+  if (k > 0) tangential_step(ls, bound_changed, rec);
+  state_.classify(bound_, model_.scenario.solver.tolerance);
+  rec.Fz = state_.normal_force;
+  rec.delta = state_.indentation;
+  const TangentialOperator& op = *model_.tangential_operator;
+  Eigen::VectorXd Floc(op.components());
+  for (int c = 0; c < op.components(); ++c)
+    Floc(c) = state_.traction[c].sum() * op.grid().cell_area();
+  const Vec2 Fg = op.to_global(Floc);
+  rec.Fx = Fg.x(), rec.Fy = Fg.y();
+  rec.Ux = state_.shift.x(), rec.Uy = state_.shift.y();
+  measure_areas(state_, op, rec);
+  rec.kx = std::numeric_limits<double>::quiet_NaN();
+  if (model_.stiffness) rec.kx = model_.stiffness->solve(state_.state).kx;
+  rec.dissipation = dissipation_;
+  rec.wear_volume = wear_volume_;
+  rec.convolutions = int(hs.convolutions() - conv0);
+  return rec;
+}
+
+// Normal solve, skipped when neither the normal load nor the surface changed. Returns whether
+// the Coulomb bound mu p changed.
+bool Stepper::normal_step(const LoadStep& ls, StepRecord& rec) {
+  if (last_normal_ && *last_normal_ == ls.normal) return false;
+  NormalSolver& ns = *model_.normal;
+  const NormalResult r =
+      ls.normal.force_control
+          ? ns.solve_force(model_.surface, ls.normal.value, state_.pressure)
+          : ns.solve_indentation(model_.surface, ls.normal.value, state_.pressure);
+  last_normal_ = ls.normal;
+  state_.normal_force = r.force;
+  state_.indentation = r.indentation;
+  bound_ = model_.scenario.material.mu * state_.pressure;
+  rec.normal_iterations = r.iterations;
+  rec.normal_residual = r.residual;
+  return true;
+}
+
+// One tangential increment, skipped when neither its load nor the bound changed (the QP's
+// solution is then the previous traction).
+void Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec) {
+  TangentialOperator& op = *model_.tangential_operator;
+  TangentialIncrement inc;
+  const VecField tau0 = state_.traction, u0 = state_.displacement;
+  inc.bound = &bound_;
+  inc.tau0 = &tau0;
+  inc.u0 = &u0;
+  if (ls.control == Control::displacement) {
+    inc.control = TangentialControl::displacement;
+    inc.target = op.to_local(ls.target - state_.shift);
+  } else {
+    inc.control = TangentialControl::force;
+    const double scale = ls.relative ? model_.scenario.material.mu * state_.normal_force : 1.0;
+    inc.target = op.to_local(ls.target * scale);
+  }
+  const bool same_load = last_target_.size() == inc.target.size() &&
+                         (inc.control == TangentialControl::force ? last_target_ == inc.target
+                                                                  : inc.target.isZero(0.0));
+  last_target_ = inc.target;
+  if (same_load && !bound_changed) return;
+  const TangentialResult r = model_.tangential->solve(inc, state_.traction, state_.displacement);
+  rec.tangential_iterations = r.iterations;
+  rec.tangential_residual = r.residual;
+  state_.shift += op.to_global(r.shift);
+  state_.classify(bound_, model_.scenario.solver.tolerance);
+  accumulate_slip(u0, r.shift, rec);
+}
+
+// Slip increment s = dU - (u - u0) per slip node (stick nodes do not slip: what the solver
+// leaves there is its residual); Coulomb dissipation tau . s with the end-of-step traction
+// (exact: a node slips only at the bound).
+void Stepper::accumulate_slip(const VecField& u0, const Eigen::VectorXd& dU, StepRecord&) {
+  const int nc = int(state_.traction.size());
+  Field work = Field::Zero(bound_.rows(), bound_.cols());
+  Field len2 = work;
+  const Field slipping = (state_.state == std::uint8_t(NodeState::slip)).cast<double>();
+  for (int c = 0; c < nc; ++c) {
+    const Field s = slipping * (dU(c) - (state_.displacement[c] - u0[c]));
+    state_.slip[c] += s;
+    work += state_.traction[c] * s;
+    len2 += s.square();
+  }
+  state_.slip_path += len2.sqrt();
+  state_.dissipation += work;
+  dissipation_ += work.sum() * model_.half_space->grid().cell_area();
+}
+
+}  // namespace fretbem
