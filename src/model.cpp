@@ -27,6 +27,13 @@ Field make_surface(const Scenario& sc) {
   throw InputError("surface.type: unknown");
 }
 
+// solver.threads = 0: all cores from n = 512 up, where the 2n x 2n transforms are large enough
+// for threads to pay; one thread below (threads cost more than they save on small grids).
+int default_threads(const Grid& g) {
+  if (std::max(g.nx, g.ny) < 512) return 1;
+  return int(std::max(1u, std::thread::hardware_concurrency()));
+}
+
 std::unique_ptr<Model> build_model(const Scenario& sc) {
   auto m = std::make_unique<Model>();
   m->scenario = sc;
@@ -34,8 +41,7 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
   m->surface0 = make_surface(sc);
   m->surface = m->surface0;
   FftOptions fft;
-  fft.threads = sc.solver.threads > 0 ? sc.solver.threads
-                                      : int(std::max(1u, std::thread::hardware_concurrency()));
+  fft.threads = sc.solver.threads > 0 ? sc.solver.threads : default_threads(sc.grid);
   fft.measure = sc.solver.fft_measure;
   m->half_space = std::make_unique<HalfSpace>(sc.grid, sc.material, sc.solver.coupling, fft);
   NormalOptions nopt{sc.solver.tolerance, sc.solver.max_iterations};

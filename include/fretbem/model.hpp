@@ -27,6 +27,8 @@ struct Model {
 /// Builds the surface and operators. The tangential operator is one-component (no y-solve)
 /// when the coupling is the analogy and the path is collinear.
 std::unique_ptr<Model> build_model(const Scenario& sc);
+/// FFT threads for solver.threads = 0: one below n = 512, all cores from there up.
+int default_threads(const Grid& grid);
 /// The surface a scenario describes (generated, or loaded and checked against the grid).
 Field make_surface(const Scenario& sc);
 

@@ -1,1 +1,136 @@
-int main() { return 0; }
+// fretbem command line: run | check | surface (DESIGN §4 "CLI").
+#include <boost/program_options.hpp>
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "fretbem/errors.hpp"
+#include "fretbem/model.hpp"
+#include "fretbem/run_output.hpp"
+#include "fretbem/scenario.hpp"
+#include "fretbem/stepper.hpp"
+#include "fretbem/surface.hpp"
+
+namespace po = boost::program_options;
+using namespace fretbem;
+
+namespace {
+
+constexpr const char* kUsage =
+    "fretbem " FRETBEM_VERSION
+    " — frictional contact of rough elastic surfaces under load histories\n\n"
+    "usage:\n"
+    "  fretbem run SCENARIO.ini [--set section.key=value ...] [--out DIR] [--quiet]\n"
+    "  fretbem check SCENARIO.ini [--set section.key=value ...]\n"
+    "  fretbem surface [SCENARIO.ini] [--set surface.key=value ...] --out FILE\n"
+    "  fretbem --help | --version\n\n"
+    "Scenario keys, output columns and conventions: see README.md.\n";
+
+// A minimal rough-surface scenario for `fretbem surface` without a scenario file.
+constexpr const char* kSurfaceDefaults =
+    "[material]\nE = 1\nnu = 0\n[grid]\nn = 256\nlength = 1\n"
+    "[surface]\ntype = rough\nhurst = 0.8\nrms_height = 1e-3\nmethod = fourier\nseed = 1\n"
+    "[load]\nnormal_force = 1\n";
+
+struct Args {
+  std::string command, scenario, out;
+  std::vector<std::string> sets;
+  bool quiet = false;
+};
+
+Args parse_args(int argc, char** argv) {
+  po::options_description opts("options");
+  opts.add_options()("help,h", "")("version", "")("set", po::value<std::vector<std::string>>(), "")(
+      "out", po::value<std::string>(), "")("quiet,q", "")(
+      "positional", po::value<std::vector<std::string>>(), "");
+  po::positional_options_description pos;
+  pos.add("positional", -1);
+  po::variables_map vm;
+  po::store(po::command_line_parser(argc, argv).options(opts).positional(pos).run(), vm);
+  Args a;
+  if (vm.count("help")) a.command = "help";
+  if (vm.count("version")) a.command = "version";
+  if (vm.count("set")) a.sets = vm["set"].as<std::vector<std::string>>();
+  if (vm.count("out")) a.out = vm["out"].as<std::string>();
+  a.quiet = vm.count("quiet") > 0;
+  const auto p = vm.count("positional") ? vm["positional"].as<std::vector<std::string>>()
+                                        : std::vector<std::string>{};
+  if (a.command.empty()) {
+    if (p.empty()) throw InputError("no command given (try: fretbem --help)");
+    a.command = p[0];
+  }
+  if (p.size() > 2) throw InputError("unexpected argument '" + p[2] + "'");
+  if (p.size() == 2) a.scenario = p[1];
+  return a;
+}
+
+Scenario read_scenario(const Args& a) {
+  if (a.scenario.empty()) throw InputError(a.command + ": no scenario file given");
+  return load_scenario(a.scenario, a.sets);
+}
+
+int cmd_run(const Args& a) {
+  Scenario sc = read_scenario(a);
+  if (!a.out.empty()) sc.output.dir = a.out;
+  auto model = build_model(sc);
+  Stepper stepper(*model);
+  TimeseriesCsv csv(sc.output.dir);
+  ResultFile h5(sc.output.dir, *model);
+  ProgressLine progress(stepper.steps());
+  std::vector<Observer*> obs{&csv, &h5};
+  if (!a.quiet) obs.push_back(&progress);
+  stepper.run(obs);
+  if (!a.quiet)
+    std::printf("fretbem: %zu steps done\n  time series: %s\n  fields:      %s\n", stepper.steps(),
+                csv.path().string().c_str(), h5.path().string().c_str());
+  return 0;
+}
+
+int cmd_check(const Args& a) {
+  const Scenario sc = read_scenario(a);
+  make_load_path(sc);  // also validates path tables
+  std::printf("%s: ok (%d x %d grid, %zu load steps)\n", a.scenario.c_str(), sc.grid.nx, sc.grid.ny,
+              make_load_path(sc).steps.size());
+  return 0;
+}
+
+int cmd_surface(const Args& a) {
+  if (a.out.empty()) throw InputError("surface: --out FILE is required");
+  const Scenario sc = a.scenario.empty() ? parse_scenario(kSurfaceDefaults, "surface", ".", a.sets)
+                                         : read_scenario(a);
+  const Field z = make_surface(sc);
+  save_height_map(a.out, z);
+  const SurfaceStats st = surface_statistics(sc.grid, z);
+  std::printf("surface %s: %d x %d, h = %g m\n", a.out.c_str(), sc.grid.nx, sc.grid.ny, sc.grid.h);
+  std::printf("  rms height %.6g m\n  rms slope  %.6g\n  min %.6g m  max %.6g m\n", st.rms_height,
+              st.rms_slope, st.min, st.max);
+  std::printf("  Hurst exponent fitted to the PSD: %.3f\n", st.hurst_fit);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const Args a = parse_args(argc, argv);
+    if (a.command == "help") return std::fputs(kUsage, stdout), 0;
+    if (a.command == "version") return std::puts("fretbem " FRETBEM_VERSION), 0;
+    if (a.command == "run") return cmd_run(a);
+    if (a.command == "check") return cmd_check(a);
+    if (a.command == "surface") return cmd_surface(a);
+    throw InputError("unknown command '" + a.command + "' (run, check, surface)");
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "fretbem: error: %s\n", e.what());
+    return 2;
+  } catch (const SolverError& e) {
+    std::fprintf(stderr, "\nfretbem: solver error: %s\n", e.what());
+    return 3;
+  } catch (const po::error& e) {
+    std::fprintf(stderr, "fretbem: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fretbem: error: %s\n", e.what());
+    return 1;
+  }
+}
