@@ -1,0 +1,66 @@
+// Hdf5Writer: DIR/result.h5 with the resolved scenario, surfaces, per-step fields and the time
+// series (DESIGN §4 "Fields"). HDF5 C API behind the interface; every write is followed by a
+// flush, so an interrupted run leaves a readable file.
+//
+// Layout: fields are 2-D double datasets of dims {ny, nx} (h5py's a[j, i] = f(i, j)), chunked
+// and deflated (level 4); `/fields/step_%06d/NAME` with attributes `step` (int64) and `time`
+// (double) on the group; `/timeseries` is an extendible [rows, ncols] double dataset with a
+// `columns` attribute (array of variable-length UTF-8 strings); text is a scalar
+// variable-length UTF-8 string dataset.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fretbem/grid.hpp"
+
+namespace fretbem::io {
+
+class Hdf5Writer {
+ public:
+  static constexpr const char* file_name = "result.h5";
+
+  /// Creates DIR (and parents) if needed and DIR/result.h5, replacing any old file.
+  /// Throws InputError naming the path if it cannot be created.
+  explicit Hdf5Writer(const std::filesystem::path& dir);
+  /// Opens an existing DIR/result.h5 for appending (resume): an existing /timeseries is
+  /// continued with its columns. Throws InputError naming the path if it cannot be opened.
+  static Hdf5Writer open_existing(const std::filesystem::path& dir);
+
+  ~Hdf5Writer();
+  Hdf5Writer(Hdf5Writer&&) noexcept;
+  Hdf5Writer& operator=(Hdf5Writer&&) noexcept;
+
+  /// Scalar string dataset at `name` (e.g. "/scenario"); intermediate groups are created and
+  /// an existing object of that name is replaced.
+  void write_text(const std::string& name, const std::string& text);
+  /// 2-D double dataset {ny, nx} at `path` (e.g. "/surface/initial"); replaces an old one.
+  void write_field(const std::string& path, const Field& field);
+  /// Group /fields/step_%06d with attributes step and time and one dataset per entry.
+  /// A group of the same step written before (e.g. by a resumed run) is replaced.
+  void write_step_fields(std::int64_t step, double time,
+                         const std::map<std::string, Field>& fields);
+
+  /// Creates /timeseries with these column names (replacing an old one). Needed once before
+  /// append_row, unless open_existing found a time series.
+  void start_timeseries(const std::vector<std::string>& columns);
+  /// Appends one row (size must equal the column count, else std::invalid_argument).
+  void append_row(const std::vector<double>& row);
+  /// Keeps the first `rows` rows of the time series (resume from an earlier step).
+  void truncate_timeseries(std::size_t rows);
+  std::size_t timeseries_rows() const;
+  const std::vector<std::string>& timeseries_columns() const;
+
+  const std::filesystem::path& path() const;
+
+ private:
+  struct Impl;
+  explicit Hdf5Writer(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace fretbem::io

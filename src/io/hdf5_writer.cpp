@@ -1,0 +1,319 @@
+#include "fretbem/io/hdf5_writer.hpp"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+#include <system_error>
+
+#include "fretbem/errors.hpp"
+
+namespace fretbem::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Owns one HDF5 identifier and closes it with the matching H5?close.
+template <herr_t (*Close)(hid_t)>
+class Handle {
+ public:
+  Handle() = default;
+  explicit Handle(hid_t id) : id_(id) {}
+  ~Handle() { reset(); }
+  Handle(Handle&& o) noexcept : id_(o.id_) { o.id_ = -1; }
+  Handle& operator=(Handle&& o) noexcept {
+    if (this != &o) reset(), id_ = o.id_, o.id_ = -1;
+    return *this;
+  }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  void reset() {
+    if (id_ >= 0) Close(id_);
+    id_ = -1;
+  }
+  hid_t get() const { return id_; }
+  bool valid() const { return id_ >= 0; }
+
+ private:
+  hid_t id_ = -1;
+};
+
+using FileH = Handle<H5Fclose>;
+using GroupH = Handle<H5Gclose>;
+using DatasetH = Handle<H5Dclose>;
+using SpaceH = Handle<H5Sclose>;
+using TypeH = Handle<H5Tclose>;
+using PlistH = Handle<H5Pclose>;
+using AttrH = Handle<H5Aclose>;
+
+herr_t innermost_error(unsigned n, const H5E_error2_t* err, void* data) {
+  if (n == 0 && err && err->desc) *static_cast<std::string*>(data) = err->desc;
+  return 0;
+}
+
+/// The most specific message on the HDF5 error stack (its printing is switched off).
+std::string hdf5_message() {
+  std::string msg;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, innermost_error, &msg);
+  H5Eclear2(H5E_DEFAULT);
+  return msg.empty() ? "unknown HDF5 error" : msg;
+}
+
+void silence_hdf5() {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
+TypeH utf8_string_type() {
+  TypeH t(H5Tcopy(H5T_C_S1));
+  H5Tset_size(t.get(), H5T_VARIABLE);
+  H5Tset_cset(t.get(), H5T_CSET_UTF8);
+  return t;
+}
+
+constexpr hsize_t kTimeseriesChunkRows = 64;
+constexpr hsize_t kFieldChunkElements = 1 << 18;  // 2 MiB of doubles per chunk
+
+}  // namespace
+
+struct Hdf5Writer::Impl {
+  fs::path path;
+  FileH file;
+  DatasetH timeseries;
+  std::vector<std::string> columns;
+  std::size_t rows = 0;
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::runtime_error(path.string() + ": cannot " + what + ": " + hdf5_message());
+  }
+  /// Identifiers and status codes alike are negative on failure.
+  hid_t check(hid_t id, const std::string& what) const {
+    if (id < 0) fail(what);
+    return id;
+  }
+  void flush() const { check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush the file"); }
+
+  bool exists(const std::string& name) const;
+  void remove_if_exists(const std::string& name) const;
+  PlistH link_plist() const;
+  void write_field(hid_t loc, const std::string& name, const Field& f) const;
+  void write_attribute(hid_t loc, const char* name, hid_t file_type, hid_t mem_type,
+                       const void* value) const;
+  void write_columns_attribute(hid_t dataset) const;
+  void open_timeseries();
+};
+
+bool Hdf5Writer::Impl::exists(const std::string& name) const {
+  // H5Lexists fails (rather than answering no) when an intermediate group is missing, so
+  // walk the path one component at a time.
+  std::size_t pos = 0;
+  while (pos != std::string::npos) {
+    pos = name.find('/', pos + 1);
+    const std::string prefix = name.substr(0, pos);
+    if (prefix.empty() || prefix == "/") continue;
+    if (H5Lexists(file.get(), prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+  }
+  return true;
+}
+
+void Hdf5Writer::Impl::remove_if_exists(const std::string& name) const {
+  if (exists(name)) check(H5Ldelete(file.get(), name.c_str(), H5P_DEFAULT), "replace " + name);
+}
+
+PlistH Hdf5Writer::Impl::link_plist() const {
+  PlistH lcpl(check(H5Pcreate(H5P_LINK_CREATE), "create a property list"));
+  check(H5Pset_create_intermediate_group(lcpl.get(), 1), "set up group creation");
+  return lcpl;
+}
+
+void Hdf5Writer::Impl::write_field(hid_t loc, const std::string& name, const Field& f) const {
+  // Eigen's column-major (nx, ny) storage is C-order [ny][nx]: x fastest, as h5py expects.
+  const hsize_t dims[2] = {static_cast<hsize_t>(f.cols()), static_cast<hsize_t>(f.rows())};
+  SpaceH space(check(H5Screate_simple(2, dims, nullptr), "create a dataspace"));
+  PlistH dcpl(check(H5Pcreate(H5P_DATASET_CREATE), "create a property list"));
+  if (f.size() > 0) {  // chunks must be non-empty and no larger than the dataset
+    const hsize_t cols = std::min<hsize_t>(dims[1], kFieldChunkElements);
+    const hsize_t chunk[2] = {std::clamp<hsize_t>(kFieldChunkElements / cols, 1, dims[0]), cols};
+    check(H5Pset_chunk(dcpl.get(), 2, chunk), "set the chunk size");
+    if (H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
+      check(H5Pset_shuffle(dcpl.get()), "set the shuffle filter");
+      check(H5Pset_deflate(dcpl.get(), 4), "set the deflate filter");
+    }
+  }
+  const PlistH lcpl = link_plist();
+  DatasetH d(check(H5Dcreate2(loc, name.c_str(), H5T_IEEE_F64LE, space.get(), lcpl.get(),
+                              dcpl.get(), H5P_DEFAULT),
+                   "create dataset " + name));
+  check(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, f.data()),
+        "write a field");
+}
+
+void Hdf5Writer::Impl::write_attribute(hid_t loc, const char* name, hid_t file_type, hid_t mem_type,
+                                       const void* value) const {
+  SpaceH scalar(check(H5Screate(H5S_SCALAR), "create a dataspace"));
+  AttrH a(check(H5Acreate2(loc, name, file_type, scalar.get(), H5P_DEFAULT, H5P_DEFAULT),
+                std::string("create attribute ") + name));
+  check(H5Awrite(a.get(), mem_type, value), "write an attribute");
+}
+
+void Hdf5Writer::Impl::write_columns_attribute(hid_t dataset) const {
+  std::vector<const char*> names;
+  for (const auto& c : columns) names.push_back(c.c_str());
+  const hsize_t n = names.size();
+  SpaceH space(check(H5Screate_simple(1, &n, nullptr), "create a dataspace"));
+  const TypeH type = utf8_string_type();
+  AttrH a(check(H5Acreate2(dataset, "columns", type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                "create attribute columns"));
+  check(H5Awrite(a.get(), type.get(), names.data()), "write the columns attribute");
+}
+
+void Hdf5Writer::Impl::open_timeseries() {
+  timeseries =
+      DatasetH(check(H5Dopen2(file.get(), "/timeseries", H5P_DEFAULT), "open /timeseries"));
+  SpaceH space(check(H5Dget_space(timeseries.get()), "read /timeseries"));
+  hsize_t dims[2] = {0, 0};
+  if (H5Sget_simple_extent_ndims(space.get()) != 2) fail("use /timeseries (not 2-D)");
+  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+  rows = dims[0];
+  AttrH a(check(H5Aopen(timeseries.get(), "columns", H5P_DEFAULT), "open /timeseries columns"));
+  SpaceH aspace(check(H5Aget_space(a.get()), "read /timeseries columns"));
+  const hssize_t n = H5Sget_simple_extent_npoints(aspace.get());
+  if (n != static_cast<hssize_t>(dims[1])) fail("use /timeseries (columns do not match)");
+  std::vector<char*> names(static_cast<std::size_t>(n), nullptr);
+  const TypeH type = utf8_string_type();
+  check(H5Aread(a.get(), type.get(), names.data()), "read /timeseries columns");
+  columns.clear();
+  for (char* s : names) {
+    columns.emplace_back(s ? s : "");
+    H5free_memory(s);
+  }
+}
+
+Hdf5Writer::Hdf5Writer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+Hdf5Writer::Hdf5Writer(const fs::path& dir) : impl_(std::make_unique<Impl>()) {
+  silence_hdf5();
+  impl_->path = dir / file_name;
+  std::error_code ec;
+  if (!dir.empty()) fs::create_directories(dir, ec);
+  if (ec) throw InputError(dir.string() + ": cannot create the output folder: " + ec.message());
+  const hid_t f = H5Fcreate(impl_->path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (f < 0) throw InputError(impl_->path.string() + ": cannot create: " + hdf5_message());
+  impl_->file = FileH(f);
+}
+
+Hdf5Writer Hdf5Writer::open_existing(const fs::path& dir) {
+  silence_hdf5();
+  auto impl = std::make_unique<Impl>();
+  impl->path = dir / file_name;
+  const hid_t f = H5Fopen(impl->path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  if (f < 0) throw InputError(impl->path.string() + ": cannot open to append: " + hdf5_message());
+  impl->file = FileH(f);
+  if (impl->exists("/timeseries")) impl->open_timeseries();
+  return Hdf5Writer(std::move(impl));
+}
+
+Hdf5Writer::~Hdf5Writer() = default;
+Hdf5Writer::Hdf5Writer(Hdf5Writer&&) noexcept = default;
+Hdf5Writer& Hdf5Writer::operator=(Hdf5Writer&&) noexcept = default;
+
+const fs::path& Hdf5Writer::path() const {
+  return impl_->path;
+}
+
+void Hdf5Writer::write_text(const std::string& name, const std::string& text) {
+  impl_->remove_if_exists(name);
+  const TypeH type = utf8_string_type();
+  SpaceH scalar(impl_->check(H5Screate(H5S_SCALAR), "create a dataspace"));
+  const PlistH lcpl = impl_->link_plist();
+  DatasetH d(impl_->check(H5Dcreate2(impl_->file.get(), name.c_str(), type.get(), scalar.get(),
+                                     lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
+                          "create dataset " + name));
+  const char* p = text.c_str();
+  impl_->check(H5Dwrite(d.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &p), "write text");
+  impl_->flush();
+}
+
+void Hdf5Writer::write_field(const std::string& path, const Field& field) {
+  impl_->remove_if_exists(path);
+  impl_->write_field(impl_->file.get(), path, field);
+  impl_->flush();
+}
+
+void Hdf5Writer::write_step_fields(std::int64_t step, double time,
+                                   const std::map<std::string, Field>& fields) {
+  char name[64];
+  std::snprintf(name, sizeof name, "/fields/step_%06lld", static_cast<long long>(step));
+  impl_->remove_if_exists(name);
+  const PlistH lcpl = impl_->link_plist();
+  GroupH g(impl_->check(H5Gcreate2(impl_->file.get(), name, lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
+                        std::string("create group ") + name));
+  impl_->write_attribute(g.get(), "step", H5T_STD_I64LE, H5T_NATIVE_INT64, &step);
+  impl_->write_attribute(g.get(), "time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &time);
+  for (const auto& [field_name, field] : fields) impl_->write_field(g.get(), field_name, field);
+  impl_->flush();
+}
+
+void Hdf5Writer::start_timeseries(const std::vector<std::string>& columns) {
+  if (columns.empty()) throw std::invalid_argument("start_timeseries: no columns");
+  impl_->timeseries.reset();
+  impl_->remove_if_exists("/timeseries");
+  impl_->columns = columns;
+  impl_->rows = 0;
+  const hsize_t ncols = columns.size();
+  const hsize_t dims[2] = {0, ncols}, maxdims[2] = {H5S_UNLIMITED, ncols};
+  SpaceH space(impl_->check(H5Screate_simple(2, dims, maxdims), "create a dataspace"));
+  PlistH dcpl(impl_->check(H5Pcreate(H5P_DATASET_CREATE), "create a property list"));
+  const hsize_t chunk[2] = {kTimeseriesChunkRows, ncols};
+  impl_->check(H5Pset_chunk(dcpl.get(), 2, chunk), "set the chunk size");
+  if (H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0)
+    impl_->check(H5Pset_deflate(dcpl.get(), 4), "set the deflate filter");
+  impl_->timeseries =
+      DatasetH(impl_->check(H5Dcreate2(impl_->file.get(), "/timeseries", H5T_IEEE_F64LE,
+                                       space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+                            "create /timeseries"));
+  impl_->write_columns_attribute(impl_->timeseries.get());
+  impl_->flush();
+}
+
+void Hdf5Writer::append_row(const std::vector<double>& row) {
+  if (!impl_->timeseries.valid())
+    throw std::invalid_argument(impl_->path.string() + ": append_row before start_timeseries");
+  if (row.size() != impl_->columns.size())
+    throw std::invalid_argument(impl_->path.string() + ": row of " + std::to_string(row.size()) +
+                                " values for " + std::to_string(impl_->columns.size()) +
+                                " columns");
+  const hid_t d = impl_->timeseries.get();
+  const hsize_t ncols = row.size();
+  const hsize_t dims[2] = {impl_->rows + 1, ncols};
+  impl_->check(H5Dset_extent(d, dims), "extend /timeseries");
+  SpaceH file_space(impl_->check(H5Dget_space(d), "select in /timeseries"));
+  const hsize_t start[2] = {impl_->rows, 0}, count[2] = {1, ncols};
+  impl_->check(
+      H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr),
+      "select in /timeseries");
+  SpaceH mem_space(impl_->check(H5Screate_simple(2, count, nullptr), "create a dataspace"));
+  impl_->check(
+      H5Dwrite(d, H5T_NATIVE_DOUBLE, mem_space.get(), file_space.get(), H5P_DEFAULT, row.data()),
+      "append to /timeseries");
+  ++impl_->rows;
+  impl_->flush();
+}
+
+void Hdf5Writer::truncate_timeseries(std::size_t rows) {
+  if (!impl_->timeseries.valid() || rows >= impl_->rows) return;
+  const hsize_t dims[2] = {rows, impl_->columns.size()};
+  impl_->check(H5Dset_extent(impl_->timeseries.get(), dims), "truncate /timeseries");
+  impl_->rows = rows;
+  impl_->flush();
+}
+
+std::size_t Hdf5Writer::timeseries_rows() const {
+  return impl_->rows;
+}
+const std::vector<std::string>& Hdf5Writer::timeseries_columns() const {
+  return impl_->columns;
+}
+
+}  // namespace fretbem::io
