@@ -335,6 +335,17 @@ double fit_hurst(const Grid& grid, const RadialPsd& p) {
   throw InputError("height map '" + file.string() + "': " + what);
 }
 
+// Grids index with int; 2^30 nodes (8 GiB of doubles) is far beyond any BEM grid. Checked
+// before allocating, since a corrupt header can declare any shape.
+void require_sane_shape(const std::filesystem::path& file, unsigned long long ny,
+                        unsigned long long nx) {
+  constexpr unsigned long long kMaxSide = 1ull << 24, kMaxNodes = 1ull << 30;
+  if (nx == 0 || ny == 0) file_error(file, "array is empty");
+  if (nx > kMaxSide || ny > kMaxSide || nx * ny > kMaxNodes)
+    file_error(file,
+               "array shape (" + std::to_string(ny) + ", " + std::to_string(nx) + ") is too large");
+}
+
 void require_finite(const std::filesystem::path& file, const Field& z) {
   for (int j = 0; j < z.cols(); ++j)
     for (int i = 0; i < z.rows(); ++i)
@@ -424,7 +435,7 @@ Field read_h5_dataset(const std::filesystem::path& file, hid_t d, const std::str
   H5Id type(H5Dget_type(d), H5Tclose);
   const H5T_class_t cls = H5Tget_class(type.get());
   if (cls != H5T_FLOAT && cls != H5T_INTEGER) file_error(file, where + "is not numeric");
-  if (dims[0] == 0 || dims[1] == 0) file_error(file, where + "is empty");
+  require_sane_shape(file, dims[0], dims[1]);
   Field z(static_cast<Eigen::Index>(dims[1]), static_cast<Eigen::Index>(dims[0]));  // {ny, nx}
   if (H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, z.data()) < 0)
     file_error(file, where + "could not be read");
@@ -550,10 +561,9 @@ Field load_npy(const std::filesystem::path& file) {
   const long long ny = h.shape[0], nx = h.shape[1];
   const bool f4 = h.descr == "<f4";
   const std::size_t item = f4 ? 4 : 8;
-  if (nx == 0 || ny == 0) file_error(file, "array is empty");
+  require_sane_shape(file, ny, nx);
   const std::size_t avail = data.size() - h.data_offset;
-  if (std::size_t(nx) > avail / item / std::size_t(ny) ||
-      std::size_t(nx) * std::size_t(ny) * item != avail)
+  if (std::size_t(nx) * std::size_t(ny) * item != avail)
     file_error(file, "data size does not match shape (" + std::to_string(ny) + ", " +
                          std::to_string(nx) + ")");
   Field z(nx, ny);
