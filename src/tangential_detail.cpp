@@ -1,5 +1,6 @@
 #include "tangential_detail.hpp"
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <sstream>
 
@@ -85,53 +86,144 @@ void Workspace::start(VecField& tau, VecField& u) {
   restore_force(tau, u);
 }
 
+// Euclidean projection onto {|tau_i| <= g_i, sum tau h^2 = F}: tau_i <- P_i(tau_i + lambda)
+// with one shift lambda for every contact node, found by safeguarded Newton on the monotone
+// map lambda -> sum P_i(tau_i + lambda) (the gradient of a convex function; its Jacobian is the
+// sum of the disc projections' Jacobians). Moving slip nodes too is what lets a reversal
+// under force control start from a feasible state of the right force.
 void Workspace::restore_force(VecField& tau, VecField& u) {
   if (inc.control != TangentialControl::force) return;
   const Field& g = *inc.bound;
-  const double area = op.grid().cell_area(), fmax = bound_force(g, op.grid());
-  bool changed = false;
-  for (int pass = 0; pass < 100; ++pass) {
-    const Eigen::VectorXd err = inc.target - total_force(tau, op.grid());
-    if (err.norm() <= 1e-15 * fmax) break;
-    const Field free = free_mask(g, magnitude(tau));
-    const double m = free.sum();
-    if (m == 0.0) break;
-    for (std::size_t c = 0; c < tau.size(); ++c) tau[c] += free * (err(c) / (m * area));
-    project_all(g, tau);
-    changed = true;
+  const int nc = int(tau.size());
+  const double area = op.grid().cell_area();
+  const Eigen::VectorXd want = inc.target / area;
+  if ((total_force(tau, op.grid()) / area - want).norm() <= 1e-15 * g.sum()) return;
+  const VecField base = tau;
+  Eigen::VectorXd lambda = Eigen::VectorXd::Zero(nc);
+  auto apply = [&](const Eigen::VectorXd& l, Eigen::VectorXd& sum, Eigen::MatrixXd* J) {
+    sum.setZero(nc);
+    if (J) J->setZero(nc, nc);
+    Eigen::VectorXd y(nc);
+    for (Eigen::Index k = 0; k < g.size(); ++k) {
+      if (!(g(k) > 0.0)) continue;
+      for (int c = 0; c < nc; ++c) y(c) = base[c](k) + l(c);
+      const double m = y.norm();
+      if (m <= g(k)) {
+        if (J) *J += Eigen::MatrixXd::Identity(nc, nc);
+      } else {
+        if (J) *J += (g(k) / m) * (Eigen::MatrixXd::Identity(nc, nc) - y * y.transpose() / (m * m));
+        y *= g(k) / m;
+      }
+      for (int c = 0; c < nc; ++c) tau[c](k) = y(c);
+      sum += y;
+    }
+  };
+  Eigen::VectorXd sum(nc);
+  Eigen::MatrixXd J(nc, nc);
+  apply(lambda, sum, &J);
+  double err = (sum - want).norm();
+  for (int it = 0; it < 200 && err > 1e-15 * g.sum(); ++it) {
+    // Newton step (regularised where the map is flat), halved until the mismatch shrinks.
+    J += 1e-12 * J.trace() * Eigen::MatrixXd::Identity(nc, nc) +
+         1e-300 * Eigen::MatrixXd::Identity(nc, nc);
+    Eigen::VectorXd step = J.ldlt().solve(want - sum);
+    for (int half = 0; half < 60; ++half, step *= 0.5) {
+      Eigen::VectorXd trial_sum(nc);
+      apply(lambda + step, trial_sum, nullptr);
+      if ((trial_sum - want).norm() < err) break;
+    }
+    lambda += step;
+    apply(lambda, sum, &J);
+    err = (sum - want).norm();
   }
-  if (changed) op.apply(tau, u);
+  op.apply(tau, u);
 }
 
 bool Workspace::project_and_reenter(const Field& free, VecField& tau, VecField& u) {
+  const Field& g = *inc.bound;
+  const int nc = op.components();
+  std::vector<std::int64_t> idx;
+  std::vector<std::vector<double>> val(nc);
+  // Stick nodes that the CG step carried out of their disc go back onto it.
+  const Field mag = magnitude(tau);
+  bool set_changed = false;
+  for (Eigen::Index k = 0; k < g.size(); ++k) {
+    if (!(free(k) > 0.0) || mag(k) <= g(k)) continue;
+    idx.push_back(k);
+    for (int c = 0; c < nc; ++c) {
+      const double t = tau[c](k), y = t * g(k) / mag(k);
+      val[c].push_back(y - t), tau[c](k) = y;
+    }
+    set_changed = true;
+  }
+  op.add_sparse(idx, val, tau, u);
+  set_changed |= slip_node_step(free, tau, u);
+  if (inc.control == TangentialControl::force) restore_force(tau, u);
+  return set_changed;
+}
+
+// Slip nodes move along d = P(tau + omega s) - tau, omega = 1 / C_ii (a local Newton step: it
+// turns a node towards its slip and lets a node slipping backwards re-enter its disc), with an
+// exact line search on the QP: every point of the segment is feasible and the objective
+// decreases, which a plain simultaneous Jacobi step on this dense operator would not ensure.
+bool Workspace::slip_node_step(const Field& free, VecField& tau, VecField& u) {
   const Field& g = *inc.bound;
   const int nc = op.components();
   const double omega = 1.0 / op.self_compliance();
   const Eigen::VectorXd dU = shift_estimate(inc, u, free);
   std::vector<std::int64_t> idx;
   std::vector<std::vector<double>> val(nc);
-  bool set_changed = false;
-  Eigen::VectorXd t(nc), y(nc);
+  VecField d = op.zeros();
+  double sd = 0.0;
+  Eigen::VectorXd t(nc), y(nc), s(nc);
   for (Eigen::Index k = 0; k < g.size(); ++k) {
-    if (!(g(k) > 0.0)) continue;
-    for (int c = 0; c < nc; ++c) t(c) = tau[c](k);
-    if (free(k) > 0.0) {
-      y = t;  // a stick node that left its disc is projected back onto it
-    } else {
-      // Slip node: Jacobi step along its slip; it stays on the bound if the slip points out.
-      for (int c = 0; c < nc; ++c) y(c) = t(c) + omega * (dU(c) - (u[c](k) - (*inc.u0)[c](k)));
+    if (!(g(k) > 0.0) || free(k) > 0.0) continue;
+    for (int c = 0; c < nc; ++c) {
+      t(c) = tau[c](k);
+      s(c) = dU(c) - (u[c](k) - (*inc.u0)[c](k));
     }
-    const double m = y.norm();
-    if (m > g(k)) y *= g(k) / m;
-    const bool now_free = y.norm() < g(k) * (1.0 - kBoundEps);
-    set_changed |= now_free != (free(k) > 0.0);
-    if ((y - t).norm() <= 1e-15 * g(k)) continue;
+    y = t + omega * s;
+    const double over = std::max(0.0, y.norm() - g(k));
+    if (over > 0.0) y *= g(k) / y.norm();
+    const double dd = (y - t).squaredNorm();
+    if (!(dd > 0.0)) continue;
     idx.push_back(k);
-    for (int c = 0; c < nc; ++c) val[c].push_back(y(c) - t(c)), tau[c](k) = y(c);
+    for (int c = 0; c < nc; ++c) val[c].push_back(y(c) - t(c)), d[c](k) = y(c) - t(c);
+    // s . d without cancellation: with y - t = omega s and t on the circle |t| = g,
+    // s . d = (|d|^2 + (|y| - g) |d|^2 / (2 g)) / omega >= 0. The plain dot product loses the
+    // O(angle^2) decrease of a small rotation in round-off and stalls near 1e-9 rad.
+    sd += dd * (1.0 + over / (2.0 * g(k))) / omega;
   }
-  op.add_sparse(idx, val, tau, u);
-  if (inc.control == TangentialControl::force) restore_force(tau, u);
-  return set_changed;
+  if (idx.empty() || !(sd > 0.0)) return false;
+  VecField w = op.zeros();
+  op.add_sparse(idx, val, d, w);
+  double dw = 0.0;
+  for (int c = 0; c < nc; ++c) dw += (d[c] * w[c]).sum();
+  const double theta = dw > 0.0 ? std::min(1.0, sd / dw) : 1.0;
+  bool released = false;
+  for (int c = 0; c < nc; ++c) tau[c] += theta * d[c], u[c] += theta * w[c];
+  for (const auto k : idx) {
+    double m2 = 0.0;
+    for (int c = 0; c < nc; ++c) m2 += tau[c](k) * tau[c](k);
+    const double m = std::sqrt(m2);
+    // A damped turn (theta < 1) cuts the chord inside the disc; a node whose full step stayed
+    // on the bound is put back on it, so turning does not release it. The O(theta |d|^2)
+    // radial change is left out of u until the next exact product (see `dirty`).
+    bool full_on_bound = true;
+    double f2 = 0.0;
+    for (int c = 0; c < nc; ++c) {
+      const double t0 = tau[c](k) - theta * d[c](k), f = t0 + d[c](k);
+      f2 += f * f;
+    }
+    full_on_bound = std::sqrt(f2) >= g(k) * (1.0 - kBoundEps);
+    if (full_on_bound && m > 0.0 && m < g(k)) {
+      for (int c = 0; c < nc; ++c) tau[c](k) *= g(k) / m;
+      dirty = true;
+    } else {
+      released |= m < g(k) * (1.0 - kBoundEps);
+    }
+  }
+  return released;
 }
 
 TangentialResult Workspace::finish(const VecField& tau, const std::string& algorithm) {

@@ -42,6 +42,8 @@ struct Workspace {
   /// slip nodes by a Jacobi step along their slip, redistributes the force error (force
   /// control), updates u. Returns true when the stick set changed.
   bool project_and_reenter(const Field& free, VecField& tau, VecField& u);
+  /// Line-searched local step of the slip nodes; true when a node re-entered its disc.
+  bool slip_node_step(const Field& free, VecField& tau, VecField& u);
   /// Uniform shift of the stick nodes' traction that restores the imposed total force; u is
   /// then recomputed. No-op under displacement control.
   void restore_force(VecField& tau, VecField& u);
@@ -52,6 +54,7 @@ struct Workspace {
   const TangentialIncrement& inc;
   TangentialOptions opt;
   double scale = 1.0;
+  bool dirty = false;  ///< u lags tau by second-order terms: recompute before trusting it
   std::int64_t conv0 = 0;
   TangentialResult result;
 };

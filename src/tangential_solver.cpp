@@ -48,6 +48,7 @@ TangentialResult ProjectedCgSolver::solve(const TangentialIncrement& inc, VecFie
   double g_old = 1.0;
   for (int it = 0;; ++it) {
     w.result.iterations = it;
+    if (w.dirty && it % 8 == 0) op_.apply(tau, u), w.dirty = false;
     w.result.residual = coulomb_residual(op_.grid(), inc, tau, u, w.scale, w.result.shift, s_);
     if (w.result.residual <= opt_.tolerance) {
       if (verified) {

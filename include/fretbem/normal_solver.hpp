@@ -39,6 +39,7 @@ class NormalSolver {
   /// Surface displacement u_z (m) of the last solution.
   const Field& displacement() const { return u_; }
   const NormalOptions& options() const { return opt_; }
+  const Grid& grid() const { return hs_.grid(); }
 
  private:
   NormalResult solve(const Field& z, bool force_control, double target, Field& p);

@@ -1,0 +1,283 @@
+// Incremental partial-slip solver against Cattaneo–Mindlin, Ciavarella–Jäger and identities.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "fretbem/errors.hpp"
+#include "fretbem/monotone_shortcut.hpp"
+#include "fretbem/normal_solver.hpp"
+#include "fretbem/stiffness.hpp"
+#include "fretbem/surface.hpp"
+#include "fretbem/tangential_solver.hpp"
+
+using namespace fretbem;
+
+namespace {
+
+// Hertz sphere on an n x n grid of side 1 with contact radius a = 1/4 (a quarter of the
+// domain), E* from E = 1, nu = 0.3 (so E*/G* = 2(1-nu)/(2-nu) ... != 1), mu = 0.5.
+struct Hertz {
+  int n;
+  double R = 1.0, a = 0.25, d = 0.0625, mu = 0.5;
+  Grid grid;
+  Material mat;
+  std::unique_ptr<HalfSpace> hs;
+  std::unique_ptr<NormalSolver> ns;
+  Field z, p, bound;
+  double Fz = 0.0;
+
+  explicit Hertz(int n_, double nu = 0.3, Coupling coupling = Coupling::analogy, double tol = 1e-12)
+      : n(n_), grid(Grid::square(n_, 1.0)) {
+    mat.body1 = {1.0, nu};
+    mat.mu = mu;
+    hs = std::make_unique<HalfSpace>(grid, mat, coupling);
+    ns = std::make_unique<NormalSolver>(*hs, NormalOptions{tol, 5000});
+    z = sphere_surface(grid, R);
+    Fz = ns->solve_indentation(z, d, p).force;
+    bound = mu * p;
+  }
+  double ratio() const { return mat.E_star() / mat.G_star(); }
+  // Mindlin's tangential shift for q = Fx/(mu Fz): U = mu d (E*/G*) (1 - (1-q)^(2/3)) (eq. 3).
+  double mindlin_shift(double q) const { return mu * d * ratio() * (1 - std::pow(1 - q, 2.0 / 3)); }
+};
+
+// Runs one increment and returns the result; tau/u carry the state.
+TangentialResult step(TangentialSolver& s, const Field& bound, TangentialControl c,
+                      Eigen::VectorXd target, VecField& tau, VecField& u) {
+  const VecField tau0 = tau, u0 = u;
+  TangentialIncrement inc{&bound, &tau0, &u0, c, target};
+  return s.solve(inc, tau, u);
+}
+
+Eigen::VectorXd vec(double x) {
+  return Eigen::VectorXd::Constant(1, x);
+}
+Eigen::VectorXd vec(double x, double y) {
+  return Eigen::Vector2d(x, y);
+}
+
+double rel_l2(const Field& a, const Field& b) {
+  return std::sqrt((a - b).square().sum() / b.square().sum());
+}
+
+int count_stick(const Field& bound, const Field& mag, double eps) {
+  return int(((bound > 0) && (mag < bound * (1 - eps))).count());
+}
+
+}  // namespace
+
+// Cattaneo–Mindlin at n = 128, a = L/4: stick fraction (1-q)^(2/3), shift U(q), kx = 2 G* c.
+// Tolerances from the issue; the grid's contact radius is 32 cells, so the stick radius is
+// resolved to about half a cell: 0.5/32 relative in c, i.e. ~0.01 absolute in the area fraction.
+TEST(Cattaneo, StickAreaShiftAndStiffness) {
+  Hertz h(128);
+  TangentialOperator op(*h.hs, Vec2(1, 0));
+  ProjectedCgSolver solver(op, {1e-10, 5000});
+  StiffnessSolver stiff(op, 1e-10, 5000);
+  VecField tau = op.zeros(), u = op.zeros();
+  double U = 0.0, worst_area = 0, worst_u = 0, worst_k = 0;
+  const int contact = int((h.bound > 0).count());
+  for (int k = 1; k <= 9; ++k) {
+    const double q = 0.1 * k;
+    const auto r = step(solver, h.bound, TangentialControl::force, vec(q * h.mu * h.Fz), tau, u);
+    U += r.shift(0);
+    ASSERT_NEAR(r.force(0), q * h.mu * h.Fz, 1e-9 * h.mu * h.Fz);
+    const Field mag = tau[0].abs();
+    const double frac = double(count_stick(h.bound, mag, 1e-10)) / contact;
+    worst_area = std::max(worst_area, std::abs(frac - std::pow(1 - q, 2.0 / 3)));
+    EXPECT_NEAR(frac, std::pow(1 - q, 2.0 / 3), 0.02) << "q = " << q;
+    worst_u = std::max(worst_u, std::abs(U / h.mindlin_shift(q) - 1));
+    EXPECT_NEAR(U / h.mindlin_shift(q), 1.0, 5e-3) << "q = " << q;
+    if (q <= 0.8 + 1e-12) {
+      StateField st = StateField::Zero(h.n, h.n);
+      for (Eigen::Index i = 0; i < st.size(); ++i)
+        st(i) = h.bound(i) > 0 ? (mag(i) < h.bound(i) * (1 - 1e-10) ? 1 : 2) : 0;
+      const double c = h.a * std::cbrt(1 - q);
+      const double kx = stiff.solve(st).kx;
+      worst_k = std::max(worst_k, std::abs(kx / (2 * h.mat.G_star() * c) - 1));
+      EXPECT_NEAR(kx / (2 * h.mat.G_star() * c), 1.0, 0.015) << "q = " << q;
+    }
+  }
+  std::printf(
+      "n=128: max |stick fraction error| %.4f, max rel shift error %.2e, max rel kx "
+      "error %.2e\n",
+      worst_area, worst_u, worst_k);
+}
+
+// Slip nodes sit exactly on the Coulomb bound (projection), |tau| <= mu p everywhere.
+TEST(Cattaneo, SlipNodesOnTheBound) {
+  Hertz h(64);
+  TangentialOperator op(*h.hs, Vec2(1, 0));
+  ProjectedCgSolver solver(op, {1e-10, 5000});
+  VecField tau = op.zeros(), u = op.zeros();
+  step(solver, h.bound, TangentialControl::force, vec(0.7 * h.mu * h.Fz), tau, u);
+  const Field mag = tau[0].abs();
+  int slip = 0;
+  for (Eigen::Index i = 0; i < mag.size(); ++i) {
+    EXPECT_LE(mag(i), h.bound(i) * (1 + 1e-14));
+    if (h.bound(i) == 0) {
+      EXPECT_EQ(tau[0](i), 0.0);
+    }
+    if (h.bound(i) > 0 && mag(i) >= h.bound(i) * (1 - 1e-10)) {
+      ++slip;
+      EXPECT_NEAR(mag(i), h.bound(i), 1e-14 * h.bound(i));
+    }
+  }
+  EXPECT_GT(slip, 0);
+}
+
+// The incremental solution equals the Ciavarella–Jäger superposition on the same grid.
+TEST(CiavarellaJaeger, IncrementalEqualsSuperposition) {
+  Hertz h(64);
+  TangentialOperator op(*h.hs, Vec2(1, 0));
+  ProjectedCgSolver solver(op, {1e-12, 5000});
+  for (double q : {0.3, 0.6, 0.9}) {
+    VecField tau = op.zeros(), u = op.zeros();
+    const double Ft = q * h.mu * h.Fz;
+    const auto r = step(solver, h.bound, TangentialControl::force, vec(Ft), tau, u);
+    const auto cj = ciavarella_jaeger_force(*h.ns, h.z, h.p, h.Fz, h.d, h.mu, h.ratio(), Ft);
+    EXPECT_LE(rel_l2(tau[0], cj.traction), 1e-6) << "q = " << q;
+    EXPECT_NEAR(r.shift(0) / cj.shift, 1.0, 1e-6) << "q = " << q;
+    // Displacement control to the same shift gives the same traction again.
+    const auto cs = ciavarella_jaeger_shift(*h.ns, h.z, h.p, h.d, h.mu, h.ratio(), cj.shift);
+    EXPECT_LE(rel_l2(cs.traction, cj.traction), 1e-6);
+  }
+}
+
+// Path independence on a monotone segment: 1 increment and 40 increments agree.
+TEST(Incremental, PathIndependenceOnMonotoneSegment) {
+  Hertz h(64);
+  TangentialOperator op(*h.hs, Vec2(1, 0));
+  ProjectedCgSolver solver(op, {1e-12, 5000});
+  const double U = h.mindlin_shift(0.8);
+  VecField t1 = op.zeros(), u1 = op.zeros(), t40 = op.zeros(), u40 = op.zeros();
+  step(solver, h.bound, TangentialControl::displacement, vec(U), t1, u1);
+  for (int k = 0; k < 40; ++k)
+    step(solver, h.bound, TangentialControl::displacement, vec(U / 40), t40, u40);
+  EXPECT_LE(rel_l2(t40[0], t1[0]), 1e-6);
+}
+
+// Loading along y or at 30 degrees (two-component analogy operator) gives the rotated
+// x solution.
+TEST(Incremental, RotatedLoadingGivesRotatedSolution) {
+  Hertz h(64);
+  TangentialOperator op1(*h.hs, Vec2(1, 0));
+  TangentialOperator op2(*h.hs);
+  ProjectedCgSolver s1(op1, {1e-12, 5000}), s2(op2, {1e-12, 5000});
+  const double Ft = 0.6 * h.mu * h.Fz;
+  VecField tx = op1.zeros(), ux = op1.zeros();
+  step(s1, h.bound, TangentialControl::force, vec(Ft), tx, ux);
+  for (double deg : {90.0, 30.0}) {
+    const double c = std::cos(deg * M_PI / 180), s = std::sin(deg * M_PI / 180);
+    VecField t = op2.zeros(), u = op2.zeros();
+    step(s2, h.bound, TangentialControl::force, vec(Ft * c, Ft * s), t, u);
+    if (deg != 90.0) {
+      EXPECT_LE(rel_l2(t[0], c * tx[0]), 1e-6);
+    }
+    if (deg == 90.0) {
+      EXPECT_LE(t[0].abs().maxCoeff(), 1e-9 * h.bound.maxCoeff());
+    }
+    EXPECT_LE(rel_l2(t[1], s * tx[0]), 1e-6) << deg;
+  }
+}
+
+// Full Cerruti with nu = 0 equals the analogy; with nu = 0.3 F_x(U_x) differs by a few percent.
+TEST(Cerruti, MatchesAnalogyAtNuZeroAndDiffersSlightlyOtherwise) {
+  for (double nu : {0.0, 0.3}) {
+    Hertz ha(64, nu, Coupling::analogy), hc(64, nu, Coupling::cerruti);
+    TangentialOperator opa(*ha.hs), opc(*hc.hs);
+    ProjectedCgSolver sa(opa, {1e-11, 5000}), sc(opc, {1e-11, 5000});
+    const double U = ha.mindlin_shift(0.5);
+    VecField ta = opa.zeros(), ua = opa.zeros(), tc = opc.zeros(), uc = opc.zeros();
+    const auto ra = step(sa, ha.bound, TangentialControl::displacement, vec(U, 0), ta, ua);
+    const auto rc = step(sc, hc.bound, TangentialControl::displacement, vec(U, 0), tc, uc);
+    const double diff = rc.force(0) / ra.force(0) - 1;
+    std::printf("nu = %.1f: Cerruti F_x / analogy F_x - 1 = %+.4f at U = U(q=0.5)\n", nu, diff);
+    if (nu == 0.0) {
+      EXPECT_LE(rel_l2(tc[0], ta[0]), 1e-8);
+      EXPECT_LE(tc[1].abs().maxCoeff(), 1e-8 * ha.bound.maxCoeff());
+    } else {
+      EXPECT_LT(std::abs(diff), 0.05);
+      EXPECT_GT(std::abs(diff), 1e-4);  // the cross terms do act
+    }
+  }
+}
+
+// The partition baseline reaches the same solution as the projected method.
+TEST(Partition, AgreesWithProjected) {
+  Hertz h(64);
+  TangentialOperator op(*h.hs, Vec2(1, 0));
+  ProjectedCgSolver pcg(op, {1e-11, 5000});
+  PartitionSolver part(op, {1e-11, 5000});
+  VecField t1 = op.zeros(), u1 = op.zeros(), t2 = op.zeros(), u2 = op.zeros();
+  for (double q : {0.4, 0.8, 0.2, -0.5}) {  // includes a reversal
+    const auto r1 = step(pcg, h.bound, TangentialControl::force, vec(q * h.mu * h.Fz), t1, u1);
+    const auto r2 = step(part, h.bound, TangentialControl::force, vec(q * h.mu * h.Fz), t2, u2);
+    EXPECT_LE(rel_l2(t2[0], t1[0]), 1e-6) << q;
+    EXPECT_NEAR(r2.shift(0), r1.shift(0), 1e-6 * std::abs(r1.shift(0)));
+  }
+}
+
+// Gross sliding: displacement control past full sliding saturates at mu F_z with every contact
+// node slipping; force control at or past mu F_z is an error.
+TEST(GrossSliding, DisplacementSaturatesForceIsAnError) {
+  Hertz h(64);
+  TangentialOperator op(*h.hs, Vec2(1, 0));
+  ProjectedCgSolver solver(op, {1e-10, 5000});
+  VecField tau = op.zeros(), u = op.zeros();
+  const auto r =
+      step(solver, h.bound, TangentialControl::displacement, vec(3 * h.mindlin_shift(1.0)), tau, u);
+  EXPECT_NEAR(r.force(0), h.mu * h.Fz, 1e-10 * h.mu * h.Fz);
+  EXPECT_EQ(count_stick(h.bound, tau[0].abs(), 1e-10), 0);
+  VecField t2 = op.zeros(), u2 = op.zeros();
+  EXPECT_THROW(step(solver, h.bound, TangentialControl::force, vec(h.mu * h.Fz), t2, u2),
+               SolverError);
+  EXPECT_THROW(step(solver, h.bound, TangentialControl::force, vec(-1.5 * h.mu * h.Fz), t2, u2),
+               SolverError);
+}
+
+// Robustness: extreme mu, a single contact node, no NaN, bound respected, iterations reported.
+TEST(Robustness, ExtremeFrictionAndSingleNode) {
+  for (double mu : {1e-3, 10.0}) {
+    Hertz h(32);
+    const Field bound = mu * h.p;
+    TangentialOperator op(*h.hs, Vec2(1, 0));
+    ProjectedCgSolver solver(op, {1e-10, 5000});
+    VecField tau = op.zeros(), u = op.zeros();
+    double Fz = h.Fz;
+    for (double q : {0.5, 0.99, -0.9}) {
+      const auto r = step(solver, bound, TangentialControl::force, vec(q * mu * Fz), tau, u);
+      EXPECT_TRUE(r.converged);
+      EXPECT_TRUE(tau[0].allFinite());
+      EXPECT_LE((tau[0].abs() - bound).maxCoeff(), 1e-14 * bound.maxCoeff());
+    }
+  }
+  // One node in contact: it sticks below mu p and slips at it.
+  Grid g = Grid::square(16, 1.0);
+  Material m;
+  m.body1 = {1.0, 0.3};
+  HalfSpace hs(g, m, Coupling::analogy);
+  Field bound = g.zeros();
+  bound(8, 8) = 2.0;
+  TangentialOperator op(hs, Vec2(1, 0));
+  ProjectedCgSolver solver(op, {1e-12, 100});
+  VecField tau = op.zeros(), u = op.zeros();
+  const double area = g.cell_area();
+  auto r = step(solver, bound, TangentialControl::force, vec(1.0 * area), tau, u);
+  EXPECT_NEAR(tau[0](8, 8), 1.0, 1e-12);
+  EXPECT_NEAR(r.shift(0), op.self_compliance() * 1.0, 1e-12 * op.self_compliance());
+  r = step(solver, bound, TangentialControl::displacement, vec(10 * op.self_compliance()), tau, u);
+  EXPECT_NEAR(tau[0](8, 8), 2.0, 1e-12);
+  EXPECT_EQ((tau[0] != 0).count(), 1);
+}
+
+// A solve that cannot converge in its iteration budget is an error, not a silent answer.
+TEST(Robustness, NonConvergenceThrows) {
+  Hertz h(64);
+  TangentialOperator op(*h.hs, Vec2(1, 0));
+  ProjectedCgSolver solver(op, {1e-12, 3});
+  VecField tau = op.zeros(), u = op.zeros();
+  EXPECT_THROW(step(solver, h.bound, TangentialControl::force, vec(0.5 * h.mu * h.Fz), tau, u),
+               SolverError);
+}
