@@ -1,0 +1,193 @@
+// Benchmark of the half-space operator and the normal solver (foundation issue, "Benchmark").
+//
+// For each n: median time of one bare convolution (HalfSpace::normal) with FFTW_ESTIMATE and
+// FFTW_MEASURE plans, median time of a full Hertz normal solve (force control, tolerance 1e-10,
+// contact diameter half the domain), its iterations and convolutions, the time per CG iteration
+// over the bare convolution time of the same plan, and the number of nodes at which
+// normal_add_sparse costs as much as one convolution (the solver switches at kSparseLimit = 24).
+// Prints a Markdown table.
+//
+// Usage: bench_convolution [--max-n N] [--repeats R] [--threads T] [--no-measure]
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "fretbem/grid.hpp"
+#include "fretbem/half_space.hpp"
+#include "fretbem/material.hpp"
+#include "fretbem/normal_solver.hpp"
+#include "fretbem/surface.hpp"
+
+using namespace fretbem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+// Median over `repeats` of the mean time of one call in a batch long enough (>= ~20 ms) that
+// clock resolution and loop overhead do not matter.
+template <class F>
+double time_per_call(F&& f, int repeats) {
+  const auto t0 = Clock::now();
+  f();  // warm-up: first touch of buffers, instruction cache
+  const double once = std::max(seconds_since(t0), 1e-7);
+  const int batch = std::max(1, int(0.02 / once));
+  std::vector<double> t;
+  for (int r = 0; r < repeats; ++r) {
+    const auto t1 = Clock::now();
+    for (int b = 0; b < batch; ++b) f();
+    t.push_back(seconds_since(t1) / batch);
+  }
+  return median(t);
+}
+
+struct Options {
+  int max_n = 1024;
+  int repeats = 5;
+  int threads = 1;
+  bool measure = true;
+};
+
+[[noreturn]] void usage(const char* argv0, int status) {
+  std::fprintf(status ? stderr : stdout,
+               "usage: %s [--max-n N] [--repeats R] [--threads T] [--no-measure]\n"
+               "  --max-n N      largest grid (128, 256, 512, 1024; default 1024)\n"
+               "  --repeats R    timing repeats, median reported (default 5)\n"
+               "  --threads T    FFTW threads (default 1)\n"
+               "  --no-measure   skip the FFTW_MEASURE plans (slow to build at large n)\n",
+               argv0);
+  std::exit(status);
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&]() -> int {
+      if (i + 1 >= argc) usage(argv[0], 2);
+      char* end = nullptr;
+      const long v = std::strtol(argv[++i], &end, 10);
+      if (*end != '\0' || v < 1 || v > 1 << 20) usage(argv[0], 2);
+      return int(v);
+    };
+    if (a == "--max-n")
+      o.max_n = value();
+    else if (a == "--repeats")
+      o.repeats = value();
+    else if (a == "--threads")
+      o.threads = value();
+    else if (a == "--no-measure")
+      o.measure = false;
+    else if (a == "--help" || a == "-h")
+      usage(argv[0], 0);
+    else
+      usage(argv[0], 2);
+  }
+  return o;
+}
+
+struct Row {
+  int n = 0;
+  double conv_est = 0, conv_meas = 0, plan_meas = 0;
+  double solve = 0;
+  int iterations = 0, convolutions = 0;
+  double per_iteration = 0, ratio = 0;
+  double sparse_node = 0, break_even = 0;
+};
+
+Row run(int n, const Options& opt) {
+  Row row;
+  row.n = n;
+  Material mat;
+  mat.body1 = Body{210e9, 0.3};
+  const double L = 1e-3, R = 0.05, a = L / 4;  // Hertz contact diameter = L/2, as the tests
+  const Grid grid = Grid::square(n, L);
+  const Field z = sphere_surface(grid, R);
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  Field p(grid.nx, grid.ny), u;
+  for (Eigen::Index k = 0; k < p.size(); ++k) p(k) = u01(rng);
+
+  HalfSpace hs(grid, mat, Coupling::analogy, FftOptions{opt.threads, false});
+  row.conv_est = time_per_call([&] { hs.normal(p, u); }, opt.repeats);
+
+  if (opt.measure) {
+    const auto t0 = Clock::now();
+    HalfSpace hm(grid, mat, Coupling::analogy, FftOptions{opt.threads, true});
+    row.plan_meas = seconds_since(t0);
+    row.conv_meas = time_per_call([&] { hm.normal(p, u); }, opt.repeats);
+  }
+
+  // Full Hertz solve with the default (ESTIMATE) operator, cold start each time.
+  const double force = 4 * mat.E_star() * a * a * a / (3 * R);
+  NormalSolver solver(hs);  // default options: tolerance 1e-10
+  std::vector<double> t;
+  for (int r = 0; r < std::max(1, opt.repeats); ++r) {
+    Field q;
+    const auto t0 = Clock::now();
+    const NormalResult res = solver.solve_force(z, force, q);
+    t.push_back(seconds_since(t0));
+    row.iterations = res.iterations;
+    row.convolutions = res.convolutions;
+  }
+  row.solve = median(t);
+  row.per_iteration = row.solve / std::max(1, row.iterations);
+  row.ratio = row.per_iteration / row.conv_est;
+
+  // Sparse update: cost per node of normal_add_sparse, from a batch of 16 random nodes.
+  constexpr int nodes = 16;
+  std::vector<std::int64_t> idx(nodes);
+  std::vector<double> val(nodes, 1.0);
+  std::uniform_int_distribution<std::int64_t> pick(0, std::int64_t(grid.size()) - 1);
+  for (auto& i : idx) i = pick(rng);
+  u = grid.zeros();
+  row.sparse_node = time_per_call([&] { hs.normal_add_sparse(idx, val, u); }, opt.repeats) / nodes;
+  row.break_even = row.conv_est / row.sparse_node;
+  return row;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options opt = parse(argc, argv);
+  std::vector<Row> rows;
+  for (int n : {128, 256, 512, 1024}) {
+    if (n > opt.max_n) break;
+    std::fprintf(stderr, "n = %d ...\n", n);
+    rows.push_back(run(n, opt));
+  }
+  std::printf(
+      "FFTW threads: %d; median of %d repeats; Hertz solve: force control, tolerance "
+      "1e-10, ESTIMATE plans, cold start.\n\n",
+      opt.threads, opt.repeats);
+  std::printf(
+      "| n | padded | conv ESTIMATE (ms) | conv MEASURE (ms) | MEASURE plan (s) | solve (ms) | "
+      "iterations | convolutions | per iteration (ms) | iteration / conv | sparse per node "
+      "(us) | sparse break-even (nodes) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows) {
+    std::printf("| %d | %d² | %.3f | ", r.n, 2 * r.n, 1e3 * r.conv_est);
+    if (opt.measure)
+      std::printf("%.3f | %.2f | ", 1e3 * r.conv_meas, r.plan_meas);
+    else
+      std::printf("– | – | ");
+    std::printf("%.1f | %d | %d | %.3f | %.2f | %.2f | %.0f |\n", 1e3 * r.solve, r.iterations,
+                r.convolutions, 1e3 * r.per_iteration, r.ratio, 1e6 * r.sparse_node, r.break_even);
+  }
+  return 0;
+}
