@@ -23,7 +23,8 @@ const std::vector<std::string>& StepRecord::columns() {
                                           "tangential_iterations",
                                           "normal_residual",
                                           "tangential_residual",
-                                          "convolutions"};
+                                          "convolutions",
+                                          "turning"};
   return c;
 }
 
@@ -48,7 +49,21 @@ std::vector<double> StepRecord::values() const {
           double(tangential_iterations),
           normal_residual,
           tangential_residual,
-          double(convolutions)};
+          double(convolutions),
+          turning ? 1.0 : 0.0};
+}
+
+StepRecord StepRecord::from_values(const std::vector<double>& v) {
+  StepRecord r;
+  if (v.size() != columns().size()) return r;
+  r.step = int(v[0]), r.time = v[1], r.cycle = int(v[2]);
+  r.Fz = v[3], r.delta = v[4], r.Fx = v[5], r.Fy = v[6], r.Ux = v[7], r.Uy = v[8];
+  r.contact_area = v[9], r.stick_area = v[10], r.slip_area = v[11], r.Fx_stick = v[12];
+  r.kx = v[13], r.dissipation = v[14], r.wear_volume = v[15];
+  r.normal_iterations = int(v[16]), r.tangential_iterations = int(v[17]);
+  r.normal_residual = v[18], r.tangential_residual = v[19], r.convolutions = int(v[20]);
+  r.turning = v[21] != 0.0;
+  return r;
 }
 
 void measure_areas(const InterfaceState& s, const TangentialOperator& op, StepRecord& r) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 
 #include "fretbem/errors.hpp"
 
@@ -44,15 +45,42 @@ std::map<std::string, Field> output_fields(const std::vector<std::string>& names
   return out;
 }
 
-TimeseriesCsv::TimeseriesCsv(const std::filesystem::path& dir)
-    : csv_(dir, "timeseries", StepRecord::columns()) {}
+namespace {
+
+// Keeps the header and the first `rows` data rows of DIR/NAME.csv (resume).
+void truncate_csv(const std::filesystem::path& dir, const std::string& name, long rows) {
+  if (rows < 0) return;
+  const auto path = dir / (name + ".csv");
+  std::ifstream in(path);
+  if (!in) return;
+  std::string line, kept;
+  for (long k = 0; k <= rows && std::getline(in, line); ++k) kept += line + "\n";
+  in.close();
+  std::ofstream(path, std::ios::trunc) << kept;
+}
+
+io::CsvWriter open_csv(const std::filesystem::path& dir, const std::string& name,
+                       const std::vector<std::string>& cols, long resume_rows) {
+  truncate_csv(dir, name, resume_rows);
+  return io::CsvWriter(dir, name, cols, resume_rows >= 0);
+}
+
+}  // namespace
+
+TimeseriesCsv::TimeseriesCsv(const std::filesystem::path& dir, long resume_rows)
+    : csv_(open_csv(dir, "timeseries", StepRecord::columns(), resume_rows)) {}
 
 void TimeseriesCsv::on_step(const StepRecord& rec, const InterfaceState&, const Model& m) {
   check_finite(rec, m.stiffness != nullptr);
   csv_.row(rec.values());
 }
 
-ResultFile::ResultFile(const std::filesystem::path& dir, const Model& m) : h5_(dir) {
+ResultFile::ResultFile(const std::filesystem::path& dir, const Model& m, long resume_rows)
+    : h5_(resume_rows >= 0 ? io::Hdf5Writer::open_existing(dir) : io::Hdf5Writer(dir)) {
+  if (resume_rows >= 0) {
+    h5_.truncate_timeseries(std::size_t(resume_rows));
+    return;
+  }
   h5_.write_text("/scenario", m.scenario.resolved_text);
   h5_.write_field("/surface/initial", m.surface0);
   h5_.start_timeseries(StepRecord::columns());
@@ -70,6 +98,50 @@ void ResultFile::on_step(const StepRecord& rec, const InterfaceState& s, const M
 
 void ResultFile::on_finish(const InterfaceState&, const Model& m) {
   h5_.write_field("/surface/final", m.surface);
+}
+
+const std::vector<std::string>& CycleSummary::columns() {
+  static const std::vector<std::string> c{"cycle",     "steps",        "dissipated_energy",
+                                          "loop_area", "Fx_amplitude", "Ux_amplitude",
+                                          "kx_at_max", "kx_at_min",    "slip_area_at_peak"};
+  return c;
+}
+
+CycleSummary::CycleSummary(const std::filesystem::path& dir, long resume_rows)
+    : csv_(open_csv(dir, "cycles", columns(), resume_rows)) {}
+
+void CycleSummary::on_step(const StepRecord& r, const InterfaceState&, const Model&) {
+  if (!have_prev_ || r.step == 0) {
+    prev_ = r, have_prev_ = true;
+    return;
+  }
+  const int cycle = int(std::ceil(r.time - 1e-12)) - 1;
+  if (cycle != cycle_) {
+    flush_cycle();
+    cycle_ = cycle, diss0_ = prev_.dissipation, loop_ = 0, steps_ = 0, peak_ = -1;
+    fmin_ = fmax_ = prev_.Fx, umin_ = umax_ = prev_.Ux;
+  }
+  // Work of the tangential force over the step (trapezoid): the loop area over a cycle.
+  loop_ +=
+      0.5 * (r.Fx + prev_.Fx) * (r.Ux - prev_.Ux) + 0.5 * (r.Fy + prev_.Fy) * (r.Uy - prev_.Uy);
+  fmin_ = std::min(fmin_, r.Fx), fmax_ = std::max(fmax_, r.Fx);
+  umin_ = std::min(umin_, r.Ux), umax_ = std::max(umax_, r.Ux);
+  if (r.turning && r.Fx >= fmax_) k_at_max_ = r.kx;
+  if (r.turning && r.Fx <= fmin_) k_at_min_ = r.kx;
+  if (r.turning && std::abs(r.Fx) > peak_) peak_ = std::abs(r.Fx), slip_at_peak_ = r.slip_area;
+  ++steps_;
+  prev_ = r;
+}
+
+void CycleSummary::flush_cycle() {
+  if (cycle_ < 0 || steps_ == 0) return;
+  csv_.row({double(cycle_), double(steps_), prev_.dissipation - diss0_, loop_,
+            0.5 * (fmax_ - fmin_), 0.5 * (umax_ - umin_), k_at_max_, k_at_min_, slip_at_peak_});
+}
+
+void CycleSummary::on_finish(const InterfaceState&, const Model&) {
+  flush_cycle();
+  cycle_ = -1;
 }
 
 ProgressLine::ProgressLine(std::size_t total)

@@ -72,6 +72,7 @@ const std::vector<std::string> kKeys = {
     "output.dir",
     "output.fields",
     "output.fields_every",
+    "output.checkpoint_every",
     "wear.law",
     "wear.coefficient",
     "wear.cycles",
@@ -522,6 +523,8 @@ void read_output(const Reader& r, OutputSpec& o) {
   if (r.has("output.fields")) o.fields = read_fields(r);
   if (r.has("output.fields_every"))
     o.fields_every = static_cast<int>(r.integer("output.fields_every", 0, 1 << 30));
+  if (r.has("output.checkpoint_every"))
+    o.checkpoint_every = static_cast<int>(r.integer("output.checkpoint_every", 0, 1 << 30));
 }
 
 void read_wear(const Reader& r, WearSpec& w) {
@@ -647,6 +650,7 @@ void write_output(IniWriter& w, const OutputSpec& o) {
   for (const auto& f : o.fields) fields += (fields.empty() ? "" : ", ") + f;
   w.put("fields", fields.empty() ? std::string("none") : fields);
   w.put("fields_every", o.fields_every);
+  w.put("checkpoint_every", o.checkpoint_every);
 }
 
 void write_wear(IniWriter& w, const WearSpec& s) {

@@ -8,12 +8,29 @@ namespace fretbem {
 Stepper::Stepper(Model& model)
     : model_(model), state_(InterfaceState::zeros(*model.tangential_operator)) {}
 
-void Stepper::run(const std::vector<Observer*>& observers) {
-  for (std::size_t k = 0; k < steps(); ++k) {
+std::size_t Stepper::run(const std::vector<Observer*>& observers, std::size_t max_steps) {
+  std::size_t done = 0;
+  for (std::size_t k = next_; k < steps() && done < max_steps; ++k, ++done) {
     const StepRecord rec = advance(k);
     for (auto* o : observers) o->on_step(rec, state_, model_);
   }
-  for (auto* o : observers) o->on_finish(state_, model_);
+  if (next_ == steps())
+    for (auto* o : observers) o->on_finish(state_, model_);
+  return done;
+}
+
+StepperMemory Stepper::memory() const {
+  return {next_, last_normal_, last_target_, dissipation_, wear_volume_};
+}
+
+void Stepper::restore(const InterfaceState& state, const StepperMemory& m) {
+  state_ = state;
+  bound_ = model_.scenario.material.mu * state_.pressure;
+  next_ = m.next_step;
+  last_normal_ = m.last_normal;
+  last_target_ = m.last_target;
+  dissipation_ = m.dissipation;
+  wear_volume_ = m.wear_volume;
 }
 
 StepRecord Stepper::advance(std::size_t k) {
@@ -43,6 +60,7 @@ StepRecord Stepper::advance(std::size_t k) {
   rec.dissipation = dissipation_;
   rec.wear_volume = wear_volume_;
   rec.convolutions = int(hs.convolutions() - conv0);
+  next_ = k + 1;
   return rec;
 }
 

@@ -26,6 +26,8 @@ struct StepRecord {
   /// Column names, in the order of values(); the first 18 are the DESIGN §4 contract.
   static const std::vector<std::string>& columns();
   std::vector<double> values() const;
+  /// Inverse of values() (a row read back from timeseries.csv).
+  static StepRecord from_values(const std::vector<double>& v);
 };
 
 /// Fills the areas and Fx_stick of a record from a classified interface state (x components

@@ -58,6 +58,9 @@ struct OutputSpec {
   std::vector<std::string> fields;  ///< subset of pressure, traction_x, traction_y, state,
                                     ///< slip_x, slip_y, dissipation, wear
   int fields_every = 0;             ///< 0: only at turning points and the last step
+  /// Restart checkpoint (DIR/checkpoint.h5) every this many steps; 0: every 10 s of run time,
+  /// at turning points and at the end.
+  int checkpoint_every = 0;
 };
 
 struct WearSpec {

@@ -3,6 +3,7 @@
 // the InterfaceState -> observables -> observers (DESIGN §2).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "fretbem/model.hpp"
@@ -18,15 +19,28 @@ class Observer {
   virtual void on_finish(const InterfaceState& /*state*/, const Model& /*model*/) {}
 };
 
+/// The stepper's memory between steps besides the InterfaceState: what a restart needs.
+struct StepperMemory {
+  std::size_t next_step = 0;
+  std::optional<NormalLoad> last_normal;
+  Eigen::VectorXd last_target;
+  double dissipation = 0.0;
+  double wear_volume = 0.0;
+};
+
 class Stepper {
  public:
   explicit Stepper(Model& model);
-  /// Runs every step of the path, notifying the observers after each.
-  void run(const std::vector<Observer*>& observers);
+  /// Runs the remaining steps of the path (at most max_steps of them), notifying the
+  /// observers after each; on_finish only when the path is complete. Returns steps run.
+  std::size_t run(const std::vector<Observer*>& observers, std::size_t max_steps = SIZE_MAX);
   /// Runs step k only (k = 0 is the initial normal loading); returns its record.
   StepRecord advance(std::size_t k);
 
   const InterfaceState& state() const { return state_; }
+  /// Restart support: the complete state after the last finished step, and its restoration.
+  StepperMemory memory() const;
+  void restore(const InterfaceState& state, const StepperMemory& memory);
   std::size_t steps() const { return model_.path.steps.size(); }
 
  private:
@@ -41,6 +55,7 @@ class Stepper {
   Eigen::VectorXd last_target_;
   double dissipation_ = 0.0;
   double wear_volume_ = 0.0;
+  std::size_t next_ = 0;
 };
 
 }  // namespace fretbem

@@ -1,10 +1,14 @@
 // fretbem command line: run | check | surface (DESIGN §4 "CLI").
 #include <boost/program_options.hpp>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "fretbem/checkpoint.hpp"
 #include "fretbem/errors.hpp"
 #include "fretbem/model.hpp"
 #include "fretbem/run_output.hpp"
@@ -22,6 +26,8 @@ constexpr const char* kUsage =
     " — frictional contact of rough elastic surfaces under load histories\n\n"
     "usage:\n"
     "  fretbem run SCENARIO.ini [--set section.key=value ...] [--out DIR] [--quiet]\n"
+    "  fretbem run --resume DIR [--quiet]   (continue an interrupted run)\n"
+    "  run options: --stop-after N  run at most N steps, checkpoint, exit (resume later)\n"
     "  fretbem check SCENARIO.ini [--set section.key=value ...]\n"
     "  fretbem surface [SCENARIO.ini] [--set surface.key=value ...] --out FILE\n"
     "  fretbem --help | --version\n\n"
@@ -34,7 +40,8 @@ constexpr const char* kSurfaceDefaults =
     "[load]\nnormal_force = 1\n";
 
 struct Args {
-  std::string command, scenario, out;
+  std::string command, scenario, out, resume;
+  long stop_after = -1;
   std::vector<std::string> sets;
   bool quiet = false;
 };
@@ -42,8 +49,8 @@ struct Args {
 Args parse_args(int argc, char** argv) {
   po::options_description opts("options");
   opts.add_options()("help,h", "")("version", "")("set", po::value<std::vector<std::string>>(), "")(
-      "out", po::value<std::string>(), "")("quiet,q", "")(
-      "positional", po::value<std::vector<std::string>>(), "");
+      "out", po::value<std::string>(), "")("quiet,q", "")("resume", po::value<std::string>(), "")(
+      "stop-after", po::value<long>(), "")("positional", po::value<std::vector<std::string>>(), "");
   po::positional_options_description pos;
   pos.add("positional", -1);
   po::variables_map vm;
@@ -54,6 +61,11 @@ Args parse_args(int argc, char** argv) {
   if (vm.count("set")) a.sets = vm["set"].as<std::vector<std::string>>();
   if (vm.count("out")) a.out = vm["out"].as<std::string>();
   a.quiet = vm.count("quiet") > 0;
+  if (vm.count("resume")) a.resume = vm["resume"].as<std::string>();
+  if (vm.count("stop-after")) {
+    a.stop_after = vm["stop-after"].as<long>();
+    if (a.stop_after < 1) throw InputError("--stop-after must be at least 1");
+  }
   const auto p = vm.count("positional") ? vm["positional"].as<std::vector<std::string>>()
                                         : std::vector<std::string>{};
   if (a.command.empty()) {
@@ -70,21 +82,69 @@ Scenario read_scenario(const Args& a) {
   return load_scenario(a.scenario, a.sets);
 }
 
+// Reads DIR/timeseries.csv back (resume): the rows a cycle summary has to replay.
+std::vector<StepRecord> read_timeseries(const std::filesystem::path& dir, std::size_t rows) {
+  std::ifstream in(dir / "timeseries.csv");
+  std::string line;
+  std::getline(in, line);
+  std::vector<StepRecord> out;
+  while (out.size() < rows && std::getline(in, line)) {
+    std::vector<double> v;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) v.push_back(std::strtod(cell.c_str(), nullptr));
+    out.push_back(StepRecord::from_values(v));
+  }
+  return out;
+}
+
+int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
+  const bool quiet = a.quiet;
+  const auto& dir = model.scenario.output.dir;
+  TimeseriesCsv csv(dir, resume_rows);
+  ResultFile h5(dir, model, resume_rows);
+  CycleSummary cycles(dir, resume_rows >= 0 ? 0 : -1);
+  if (resume_rows > 0)
+    for (const auto& r : read_timeseries(dir, std::size_t(resume_rows)))
+      cycles.on_step(r, stepper.state(), model);
+  Checkpointer checkpoint(dir, stepper, model.scenario.output.checkpoint_every);
+  ProgressLine progress(stepper.steps());
+  std::vector<Observer*> obs{&csv, &h5, &cycles, &checkpoint};
+  if (!quiet) obs.push_back(&progress);
+  const std::size_t budget = a.stop_after > 0 ? std::size_t(a.stop_after) : SIZE_MAX;
+  stepper.run(obs, budget);
+  if (stepper.memory().next_step < stepper.steps()) {
+    save_checkpoint(dir, model, stepper);
+    std::printf("fretbem: stopped after step %zu of %zu; continue with: fretbem run --resume %s\n",
+                stepper.memory().next_step - 1, stepper.steps() - 1, dir.string().c_str());
+    return 0;
+  }
+  if (!quiet)
+    std::printf(
+        "fretbem: %zu steps done\n  time series: %s\n  cycles:      %s\n  fields:      %s\n",
+        stepper.steps(), csv.path().string().c_str(), (dir / "cycles.csv").string().c_str(),
+        h5.path().string().c_str());
+  return 0;
+}
+
 int cmd_run(const Args& a) {
+  if (!a.resume.empty()) {
+    if (!a.scenario.empty() || !a.sets.empty())
+      throw InputError("run --resume DIR takes no scenario or --set: the run's own is used");
+    const Checkpoint cp = load_checkpoint(a.resume);
+    Scenario sc = parse_scenario(cp.scenario_text, "resume", ".", {});
+    sc.output.dir = a.resume;
+    auto model = build_model(sc);
+    model->surface = cp.surface;
+    Stepper stepper(*model);
+    stepper.restore(cp.state, cp.memory);
+    return run_model(*model, stepper, long(cp.memory.next_step), a);
+  }
   Scenario sc = read_scenario(a);
   if (!a.out.empty()) sc.output.dir = a.out;
   auto model = build_model(sc);
   Stepper stepper(*model);
-  TimeseriesCsv csv(sc.output.dir);
-  ResultFile h5(sc.output.dir, *model);
-  ProgressLine progress(stepper.steps());
-  std::vector<Observer*> obs{&csv, &h5};
-  if (!a.quiet) obs.push_back(&progress);
-  stepper.run(obs);
-  if (!a.quiet)
-    std::printf("fretbem: %zu steps done\n  time series: %s\n  fields:      %s\n", stepper.steps(),
-                csv.path().string().c_str(), h5.path().string().c_str());
-  return 0;
+  return run_model(*model, stepper, -1, a);
 }
 
 int cmd_check(const Args& a) {
