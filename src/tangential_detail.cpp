@@ -83,60 +83,101 @@ Workspace::Workspace(TangentialOperator& op_, const TangentialIncrement& inc_,
 void Workspace::start(VecField& tau, VecField& u) {
   const bool moved = project_all(*inc.bound, tau);
   if (moved || u.size() != tau.size()) op.apply(tau, u);
-  restore_force(tau, u);
+  if (inc.control == TangentialControl::force) start_force(tau, u);
 }
 
-// Euclidean projection onto {|tau_i| <= g_i, sum tau h^2 = F}: tau_i <- P_i(tau_i + lambda)
-// with one shift lambda for every contact node, found by safeguarded Newton on the monotone
-// map lambda -> sum P_i(tau_i + lambda) (the gradient of a convex function; its Jacobian is the
-// sum of the disc projections' Jacobians). Moving slip nodes too is what lets a reversal
-// under force control start from a feasible state of the right force.
+// Force control: of the two feasible starts of the right force — shifting the stick nodes
+// only (continued loading) or every contact node (a reversal, where the whole contact sticks
+// again first) — take the one of lower QP energy 1/2 (tau - tau0) . (u - u0).
+void Workspace::start_force(VecField& tau, VecField& u) {
+  const Field& g = *inc.bound;
+  const double area = op.grid().cell_area(), tol = 1e-15 * g.sum();
+  const Eigen::VectorXd want = inc.target / area;
+  if ((total_force(tau, op.grid()) / area - want).norm() <= tol) return;
+  auto energy = [&](const VecField& t, const VecField& w) {
+    double e = 0.0;
+    for (std::size_t c = 0; c < t.size(); ++c)
+      e += 0.5 * ((t[c] - (*inc.tau0)[c]) * (w[c] - (*inc.u0)[c])).sum();
+    return e;
+  };
+  VecField ta = tau, ua, tb = tau, ub;
+  const bool a_ok = shift_to_force(free_mask(g, magnitude(tau)), want, ta) <= tol;
+  shift_to_force((g > 0.0).cast<double>(), want, tb);
+  op.apply(tb, ub);
+  if (a_ok) {
+    op.apply(ta, ua);
+    if (energy(ta, ua) < energy(tb, ub)) {
+      tau = std::move(ta), u = std::move(ua);
+      return;
+    }
+  }
+  tau = std::move(tb), u = std::move(ub);
+}
+
+// Euclidean projection onto {|tau_i| <= g_i, sum tau h^2 = F} over a set of movable nodes:
+// tau_i <- P_i(tau_i + lambda) with one shift lambda, found by safeguarded Newton on the
+// monotone map lambda -> sum P_i(tau_i + lambda) (the gradient of a convex function; its
+// Jacobian is the sum of the disc projections' Jacobians). Stick nodes move first: shifting
+// slip nodes as well would turn them against their slip and, in 2-D, make the iteration cycle.
+// Only when the stick nodes cannot carry the force (a reversal under force control) do all
+// contact nodes move, which gives a feasible state of the right force.
 void Workspace::restore_force(VecField& tau, VecField& u) {
   if (inc.control != TangentialControl::force) return;
   const Field& g = *inc.bound;
-  const int nc = int(tau.size());
-  const double area = op.grid().cell_area();
+  const double area = op.grid().cell_area(), tol = 1e-15 * g.sum();
   const Eigen::VectorXd want = inc.target / area;
-  if ((total_force(tau, op.grid()) / area - want).norm() <= 1e-15 * g.sum()) return;
+  if ((total_force(tau, op.grid()) / area - want).norm() <= tol) return;
+  const Field stick = free_mask(g, magnitude(tau));
+  if (shift_to_force(stick, want, tau) > tol) shift_to_force((g > 0.0).cast<double>(), want, tau);
+  op.apply(tau, u);
+}
+
+double Workspace::shift_to_force(const Field& movable, const Eigen::VectorXd& want,
+                                 VecField& tau) const {
+  const Field& g = *inc.bound;
+  const int nc = int(tau.size());
   const VecField base = tau;
-  Eigen::VectorXd lambda = Eigen::VectorXd::Zero(nc);
   auto apply = [&](const Eigen::VectorXd& l, Eigen::VectorXd& sum, Eigen::MatrixXd* J) {
     sum.setZero(nc);
     if (J) J->setZero(nc, nc);
     Eigen::VectorXd y(nc);
     for (Eigen::Index k = 0; k < g.size(); ++k) {
-      if (!(g(k) > 0.0)) continue;
-      for (int c = 0; c < nc; ++c) y(c) = base[c](k) + l(c);
-      const double m = y.norm();
-      if (m <= g(k)) {
-        if (J) *J += Eigen::MatrixXd::Identity(nc, nc);
-      } else {
-        if (J) *J += (g(k) / m) * (Eigen::MatrixXd::Identity(nc, nc) - y * y.transpose() / (m * m));
-        y *= g(k) / m;
+      for (int c = 0; c < nc; ++c) y(c) = base[c](k);
+      if (movable(k) > 0.0) {
+        y += l;
+        const double m = y.norm();
+        if (m <= g(k)) {
+          if (J) *J += Eigen::MatrixXd::Identity(nc, nc);
+        } else {
+          if (J)
+            *J += (g(k) / m) * (Eigen::MatrixXd::Identity(nc, nc) - y * y.transpose() / (m * m));
+          y *= g(k) / m;
+        }
+        for (int c = 0; c < nc; ++c) tau[c](k) = y(c);
       }
-      for (int c = 0; c < nc; ++c) tau[c](k) = y(c);
       sum += y;
     }
   };
-  Eigen::VectorXd sum(nc);
+  Eigen::VectorXd lambda = Eigen::VectorXd::Zero(nc), sum(nc);
   Eigen::MatrixXd J(nc, nc);
   apply(lambda, sum, &J);
   double err = (sum - want).norm();
   for (int it = 0; it < 200 && err > 1e-15 * g.sum(); ++it) {
     // Newton step (regularised where the map is flat), halved until the mismatch shrinks.
-    J += 1e-12 * J.trace() * Eigen::MatrixXd::Identity(nc, nc) +
-         1e-300 * Eigen::MatrixXd::Identity(nc, nc);
-    Eigen::VectorXd step = J.ldlt().solve(want - sum);
-    for (int half = 0; half < 60; ++half, step *= 0.5) {
-      Eigen::VectorXd trial_sum(nc);
-      apply(lambda + step, trial_sum, nullptr);
-      if ((trial_sum - want).norm() < err) break;
+    J += (1e-12 * J.trace() + 1e-300) * Eigen::MatrixXd::Identity(nc, nc);
+    Eigen::VectorXd step = J.ldlt().solve(want - sum), trial(nc);
+    int half = 0;
+    for (; half < 60; ++half, step *= 0.5) {
+      apply(lambda + step, trial, nullptr);
+      if ((trial - want).norm() < err) break;
     }
+    if (half == 60) break;  // no shift of these nodes reduces the mismatch
     lambda += step;
     apply(lambda, sum, &J);
     err = (sum - want).norm();
   }
-  op.apply(tau, u);
+  apply(lambda, sum, nullptr);
+  return err;
 }
 
 bool Workspace::project_and_reenter(const Field& free, VecField& tau, VecField& u) {

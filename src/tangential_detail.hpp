@@ -38,6 +38,7 @@ struct Workspace {
             ScaleCache& cache);
   /// Makes the warm start feasible (and of the right force under force control), with u = C tau.
   void start(VecField& tau, VecField& u);
+  void start_force(VecField& tau, VecField& u);
   /// After a CG step on the stick set `free`: projects stick nodes that left their disc, moves
   /// slip nodes by a Jacobi step along their slip, redistributes the force error (force
   /// control), updates u. Returns true when the stick set changed.
@@ -47,6 +48,9 @@ struct Workspace {
   /// Uniform shift of the stick nodes' traction that restores the imposed total force; u is
   /// then recomputed. No-op under displacement control.
   void restore_force(VecField& tau, VecField& u);
+  /// tau_i <- P_i(tau_i + lambda) on the movable nodes with the lambda that brings the total
+  /// (in Pa * cells) closest to `want`; returns the remaining mismatch.
+  double shift_to_force(const Field& movable, const Eigen::VectorXd& want, VecField& tau) const;
   /// Fills the report; throws SolverError when the increment did not converge.
   TangentialResult finish(const VecField& tau, const std::string& algorithm);
 
