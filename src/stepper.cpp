@@ -52,8 +52,8 @@ StepRecord Stepper::advance(std::size_t k) {
   for (int c = 0; c < op.components(); ++c)
     Floc(c) = state_.traction[c].sum() * op.grid().cell_area();
   const Vec2 Fg = op.to_global(Floc);
-  rec.Fx = Fg.x(), rec.Fy = Fg.y();
-  rec.Ux = state_.shift.x(), rec.Uy = state_.shift.y();
+  rec.Fx = Fg.x() + 0.0, rec.Fy = Fg.y() + 0.0;  // + 0.0: no -0 in the output
+  rec.Ux = state_.shift.x() + 0.0, rec.Uy = state_.shift.y() + 0.0;
   measure_areas(state_, op, rec);
   rec.kx = std::numeric_limits<double>::quiet_NaN();
   if (model_.stiffness) rec.kx = model_.stiffness->solve(state_.state).kx;
