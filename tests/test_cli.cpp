@@ -1,0 +1,122 @@
+// The command line contract (DESIGN §4): exit codes, one-line errors, outputs and columns.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int status = -1;
+  std::string out, err;
+};
+
+// Runs the fretbem binary with arguments; captures stdout and stderr.
+Result fretbem(const std::string& args) {
+  const fs::path tmp = fs::temp_directory_path() / "fretbem_cli_test";
+  fs::create_directories(tmp);
+  const std::string cmd = std::string(FRETBEM_BINARY) + " " + args + " > " +
+                          (tmp / "out").string() + " 2> " + (tmp / "err").string();
+  Result r;
+  const int s = std::system(cmd.c_str());
+  r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+  auto slurp = [](const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  r.out = slurp(tmp / "out");
+  r.err = slurp(tmp / "err");
+  return r;
+}
+
+std::string scenario(const std::string& name) {
+  return (fs::path(FRETBEM_SOURCE_DIR) / "scenarios" / name).string();
+}
+
+int lines(const std::string& s) {
+  return int(std::count(s.begin(), s.end(), '\n'));
+}
+
+}  // namespace
+
+TEST(Cli, HelpAndVersion) {
+  EXPECT_EQ(fretbem("--help").status, 0);
+  EXPECT_NE(fretbem("--help").out.find("fretbem run"), std::string::npos);
+  const Result v = fretbem("--version");
+  EXPECT_EQ(v.status, 0);
+  EXPECT_NE(v.out.find("fretbem "), std::string::npos);
+}
+
+TEST(Cli, BadInputIsOneClearLineAndNonZeroExit) {
+  const std::string cases[] = {
+      "",                                                          // no command
+      "frobnicate",                                                // unknown command
+      "run no_such_file.ini",                                      // missing file
+      "run " + scenario("hertz.ini") + " --set material.mue=0.3",  // unknown key
+      "run " + scenario("hertz.ini") + " --set grid.n=abc",        // not an integer
+      "run " + scenario("hertz.ini") + " --set material.nu=0.7",   // out of range
+      "run " + scenario("hertz.ini") + " --set material.E=nan",    // not finite
+      "check " + scenario("hertz.ini") + " --set load.path=spiral",
+      "run " + scenario("cattaneo.ini") + " --set load.amplitude=1.2",  // past full sliding
+      "run --resume no_such_dir",
+      "surface",  // no --out
+  };
+  for (const auto& c : cases) {
+    const Result r = fretbem(c);
+    EXPECT_NE(r.status, 0) << c;
+    EXPECT_EQ(lines(r.err), 1) << c << "\n" << r.err;
+    EXPECT_NE(r.err.find("error"), std::string::npos) << c;
+  }
+  // The message names the offending key.
+  EXPECT_NE(
+      fretbem("run " + scenario("hertz.ini") + " --set material.mue=0.3").err.find("material.mu"),
+      std::string::npos);
+}
+
+TEST(Cli, CheckValidatesWithoutRunning) {
+  const Result r = fretbem("check " + scenario("mindlin_cycle.ini"));
+  EXPECT_EQ(r.status, 0);
+  EXPECT_NE(r.out.find("ok"), std::string::npos);
+}
+
+TEST(Cli, RunWritesTheContractColumns) {
+  const fs::path dir = fs::temp_directory_path() / "fretbem_cli_hertz";
+  fs::remove_all(dir);
+  const Result r =
+      fretbem("run " + scenario("cattaneo.ini") + " --quiet --set grid.n=32 --out " + dir.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream in(dir / "timeseries.csv");
+  std::string header;
+  std::getline(in, header);
+  const std::string contract =
+      "step,time,cycle,Fz,delta,Fx,Fy,Ux,Uy,contact_area,stick_area,slip_area,Fx_stick,kx,"
+      "dissipation,wear_volume,normal_iterations,tangential_iterations";
+  EXPECT_EQ(header.rfind(contract, 0), 0u) << header;
+  int rows = 0;
+  for (std::string line; std::getline(in, line); ++rows)
+    EXPECT_EQ(line.find("nan"), std::string::npos) << line;
+  EXPECT_EQ(rows, 20);  // row 0 plus load.steps = 19
+  EXPECT_TRUE(fs::exists(dir / "result.h5"));
+  EXPECT_TRUE(fs::exists(dir / "cycles.csv"));
+  fs::remove_all(dir);
+}
+
+TEST(Cli, SurfaceWritesAHeightMapAndStatistics) {
+  const fs::path out = fs::temp_directory_path() / "fretbem_cli_surface.npy";
+  const Result r = fretbem("surface --set surface.hurst=0.6 --set grid.n=64 --out " + out.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(out));
+  EXPECT_NE(r.out.find("rms height"), std::string::npos);
+  EXPECT_NE(r.out.find("Hurst"), std::string::npos);
+  fs::remove(out);
+}
