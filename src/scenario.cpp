@@ -69,6 +69,7 @@ const std::vector<std::string> kKeys = {
     "solver.algorithm",
     "solver.stiffness",
     "solver.fft_plan",
+    "solver.monotone",
     "output.dir",
     "output.fields",
     "output.fields_every",
@@ -498,6 +499,8 @@ void read_solver(const Reader& r, SolverSpec& s) {
   if (r.has("solver.stiffness")) s.stiffness = r.boolean("solver.stiffness");
   if (r.has("solver.fft_plan"))
     s.fft_measure = r.choice("solver.fft_plan", {"estimate", "measure"}) == 1;
+  if (r.has("solver.monotone"))
+    s.shortcut = r.choice("solver.monotone", {"incremental", "shortcut"}) == 1;
 }
 
 std::vector<std::string> read_fields(const Reader& r) {
@@ -641,6 +644,7 @@ void write_solver(IniWriter& w, const SolverSpec& s) {
         std::string(s.algorithm == TangentialAlgorithm::projected ? "projected" : "partition"));
   w.put("stiffness", s.stiffness);
   w.put("fft_plan", std::string(s.fft_measure ? "measure" : "estimate"));
+  w.put("monotone", std::string(s.shortcut ? "shortcut" : "incremental"));
 }
 
 void write_output(IniWriter& w, const OutputSpec& o) {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "fretbem/monotone_shortcut.hpp"
+
 namespace fretbem {
 
 Stepper::Stepper(Model& model)
@@ -43,7 +45,10 @@ StepRecord Stepper::advance(std::size_t k) {
   rec.cycle = ls.cycle;
   rec.turning = ls.turning;
   const bool bound_changed = normal_step(ls, rec);
-  if (k > 0) tangential_step(ls, bound_changed, rec);
+  if (k > 0 && shortcut_applies(k))
+    shortcut_step(ls, rec);
+  else if (k > 0)
+    tangential_step(ls, bound_changed, rec);
   state_.classify(bound_, model_.scenario.solver.tolerance);
   rec.Fz = state_.normal_force;
   rec.delta = state_.indentation;
@@ -110,6 +115,44 @@ void Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
   state_.shift += op.to_global(r.shift);
   state_.classify(bound_, model_.scenario.solver.tolerance);
   accumulate_slip(u0, r.shift, rec);
+}
+
+// solver.monotone = shortcut: steps on the virgin monotone segment that starts at step 0, at
+// constant normal load, with the one-component analogy operator.
+bool Stepper::shortcut_applies(std::size_t k) const {
+  const Model& m = model_;
+  return m.scenario.solver.shortcut && m.tangential_operator->components() == 1 &&
+         m.scenario.solver.coupling == Coupling::analogy && m.path.monotone(0, k);
+}
+
+// Ciavarella–Jäger superposition instead of an incremental solve (monotone_shortcut.hpp); the
+// state, slip and dissipation bookkeeping are those of an incremental step to the same load.
+void Stepper::shortcut_step(const LoadStep& ls, StepRecord& rec) {
+  TangentialOperator& op = *model_.tangential_operator;
+  const Material& mat = model_.scenario.material;
+  const Vec2 e = op.direction();
+  const double ratio = model_.half_space->tangential_ratio();
+  const double scale = ls.relative ? mat.mu * state_.normal_force : 1.0;
+  const double target = e.dot(ls.target * (ls.control == Control::force ? scale : 1.0));
+  const double sign = target < 0.0 ? -1.0 : 1.0;
+  NormalSolver& ns = *model_.normal;
+  const ShortcutResult r =
+      ls.control == Control::force
+          ? ciavarella_jaeger_force(ns, model_.surface, state_.pressure, state_.normal_force,
+                                    state_.indentation, mat.mu, ratio, std::abs(target))
+          : ciavarella_jaeger_shift(ns, model_.surface, state_.pressure, state_.indentation, mat.mu,
+                                    ratio, std::abs(target));
+  const VecField u0 = state_.displacement;
+  state_.traction[0] = sign * r.traction;
+  op.apply(state_.traction, state_.displacement);
+  Eigen::VectorXd dU(1);
+  dU(0) = sign * r.shift - e.dot(state_.shift);
+  state_.shift += dU(0) * e;
+  rec.tangential_iterations = r.corrective.iterations;
+  rec.tangential_residual = r.corrective.residual;
+  last_target_ = op.to_local(ls.target * (ls.control == Control::force ? scale : 1.0));
+  state_.classify(bound_, model_.scenario.solver.tolerance);
+  accumulate_slip(u0, dU, rec);
 }
 
 // Slip increment s = dU - (u - u0) per slip node (stick nodes do not slip: what the solver

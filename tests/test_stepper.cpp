@@ -158,6 +158,26 @@ TEST(SteadyState, SecondAndThirdCyclesCoincide) {
               1e-6 * cycle_energy(r.rows, 1).nodal);
 }
 
+// solver.monotone = shortcut (Ciavarella–Jäger) gives the incremental ramp's rows.
+TEST(Paths, MonotoneShortcutEqualsIncrementalRamp) {
+  for (const char* control : {"control = force\namplitude = 0.9",
+                              "control = displacement\n"
+                              "displacement_amplitude = 0.02"}) {
+    const std::string load =
+        std::string("normal_force = 0.015\npath = ramp\nsteps = 6\n") + control;
+    // Both at solver.tolerance = 1e-10: rows agree to ~1e-8 relative.
+    const Recorder inc = run(sphere_scenario(48, load));
+    const Recorder cj = run(sphere_scenario(48, load, "monotone = shortcut\n"));
+    for (std::size_t k = 0; k < inc.rows.size(); ++k) {
+      EXPECT_NEAR(cj.rows[k].Fx, inc.rows[k].Fx, 1e-7 * std::abs(inc.rows.back().Fx));
+      EXPECT_NEAR(cj.rows[k].Ux, inc.rows[k].Ux, 1e-7 * std::abs(inc.rows.back().Ux));
+      EXPECT_EQ(cj.rows[k].stick_area, inc.rows[k].stick_area);
+      EXPECT_NEAR(cj.rows[k].dissipation, inc.rows[k].dissipation,
+                  1e-6 * inc.rows.back().dissipation);
+    }
+  }
+}
+
 // Direction angles: a ramp at 30 degrees gives the x ramp rotated (analogy, isotropic).
 TEST(Paths, DirectionAngleRotatesTheResponse) {
   const std::string load =

@@ -51,6 +51,9 @@ struct SolverSpec {
   TangentialAlgorithm algorithm = TangentialAlgorithm::projected;
   bool stiffness = true;     ///< compute the exact differential stiffness kx every step
   bool fft_measure = false;  ///< FFTW_MEASURE plans
+  /// Virgin monotone segments at constant normal load by the Ciavarella–Jäger superposition
+  /// (analogy, collinear paths) instead of incremental solves.
+  bool shortcut = false;
 };
 
 struct OutputSpec {

@@ -46,6 +46,8 @@ class Stepper {
  private:
   bool normal_step(const LoadStep& ls, StepRecord& rec);
   void tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec);
+  bool shortcut_applies(std::size_t k) const;
+  void shortcut_step(const LoadStep& ls, StepRecord& rec);
   void accumulate_slip(const VecField& u0, const Eigen::VectorXd& dU, StepRecord& rec);
 
   Model& model_;
