@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "fretbem/ensemble.hpp"
 #include "fretbem/errors.hpp"
 #include "fretbem/model.hpp"
 #include "fretbem/run_output.hpp"
@@ -24,6 +25,8 @@ constexpr const char* kUsage =
     "  fretbem run SCENARIO.ini [--set section.key=value ...] [--out DIR] [--quiet]\n"
     "  fretbem check SCENARIO.ini [--set section.key=value ...]\n"
     "  fretbem surface [SCENARIO.ini] [--set surface.key=value ...] --out FILE\n"
+    "  fretbem ensemble SCENARIO.ini --hurst H1,H2,... [--seeds N] [--jobs J] [--bins B]\n"
+    "                   [--set section.key=value ...] [--out DIR] [--quiet]\n"
     "  fretbem --help | --version\n\n"
     "Scenario keys, output columns and conventions: see README.md.\n";
 
@@ -37,12 +40,15 @@ struct Args {
   std::string command, scenario, out;
   std::vector<std::string> sets;
   bool quiet = false;
+  std::string hurst;                    // ensemble
+  int seeds = 20, jobs = 0, bins = 20;  // ensemble
 };
 
 Args parse_args(int argc, char** argv) {
   po::options_description opts("options");
   opts.add_options()("help,h", "")("version", "")("set", po::value<std::vector<std::string>>(), "")(
-      "out", po::value<std::string>(), "")("quiet,q", "")(
+      "out", po::value<std::string>(), "")("quiet,q", "")("hurst", po::value<std::string>(), "")(
+      "seeds", po::value<int>(), "")("jobs", po::value<int>(), "")("bins", po::value<int>(), "")(
       "positional", po::value<std::vector<std::string>>(), "");
   po::positional_options_description pos;
   pos.add("positional", -1);
@@ -54,6 +60,10 @@ Args parse_args(int argc, char** argv) {
   if (vm.count("set")) a.sets = vm["set"].as<std::vector<std::string>>();
   if (vm.count("out")) a.out = vm["out"].as<std::string>();
   a.quiet = vm.count("quiet") > 0;
+  if (vm.count("hurst")) a.hurst = vm["hurst"].as<std::string>();
+  if (vm.count("seeds")) a.seeds = vm["seeds"].as<int>();
+  if (vm.count("jobs")) a.jobs = vm["jobs"].as<int>();
+  if (vm.count("bins")) a.bins = vm["bins"].as<int>();
   const auto p = vm.count("positional") ? vm["positional"].as<std::vector<std::string>>()
                                         : std::vector<std::string>{};
   if (a.command.empty()) {
@@ -109,6 +119,21 @@ int cmd_surface(const Args& a) {
   return 0;
 }
 
+// Members are separate `fretbem run` processes; exit 4 when any of them failed.
+int cmd_ensemble(const Args& a) {
+  if (a.scenario.empty()) throw InputError("ensemble: no scenario file given");
+  EnsembleOptions o;
+  o.scenario = a.scenario;
+  o.sets = a.sets;
+  o.hurst = parse_hurst_list(a.hurst);
+  o.seeds = a.seeds, o.jobs = a.jobs, o.bins = a.bins;
+  o.out = a.out;
+  o.quiet = a.quiet;
+  const int failed = run_ensemble(o);
+  if (failed) std::fprintf(stderr, "fretbem ensemble: %d member(s) failed\n", failed);
+  return failed ? 4 : 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -119,7 +144,8 @@ int main(int argc, char** argv) {
     if (a.command == "run") return cmd_run(a);
     if (a.command == "check") return cmd_check(a);
     if (a.command == "surface") return cmd_surface(a);
-    throw InputError("unknown command '" + a.command + "' (run, check, surface)");
+    if (a.command == "ensemble") return cmd_ensemble(a);
+    throw InputError("unknown command '" + a.command + "' (run, check, surface, ensemble)");
   } catch (const InputError& e) {
     std::fprintf(stderr, "fretbem: error: %s\n", e.what());
     return 2;
