@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "fretbem/checkpoint.hpp"
+#include "fretbem/ensemble.hpp"
 #include "fretbem/errors.hpp"
 #include "fretbem/model.hpp"
 #include "fretbem/run_output.hpp"
@@ -30,6 +31,8 @@ constexpr const char* kUsage =
     "  run options: --stop-after N  run at most N steps, checkpoint, exit (resume later)\n"
     "  fretbem check SCENARIO.ini [--set section.key=value ...]\n"
     "  fretbem surface [SCENARIO.ini] [--set surface.key=value ...] --out FILE\n"
+    "  fretbem ensemble SCENARIO.ini --hurst H1,H2,... [--seeds N] [--jobs J] [--bins B]\n"
+    "                   [--set section.key=value ...] [--out DIR] [--quiet]\n"
     "  fretbem --help | --version\n\n"
     "Scenario keys, output columns and conventions: see README.md.\n";
 
@@ -44,13 +47,17 @@ struct Args {
   long stop_after = -1;
   std::vector<std::string> sets;
   bool quiet = false;
+  std::string hurst;                    // ensemble
+  int seeds = 20, jobs = 0, bins = 20;  // ensemble
 };
 
 Args parse_args(int argc, char** argv) {
   po::options_description opts("options");
   opts.add_options()("help,h", "")("version", "")("set", po::value<std::vector<std::string>>(), "")(
       "out", po::value<std::string>(), "")("quiet,q", "")("resume", po::value<std::string>(), "")(
-      "stop-after", po::value<long>(), "")("positional", po::value<std::vector<std::string>>(), "");
+      "stop-after", po::value<long>(), "")("hurst", po::value<std::string>(), "")(
+      "seeds", po::value<int>(), "")("jobs", po::value<int>(), "")("bins", po::value<int>(), "")(
+      "positional", po::value<std::vector<std::string>>(), "");
   po::positional_options_description pos;
   pos.add("positional", -1);
   po::variables_map vm;
@@ -66,6 +73,10 @@ Args parse_args(int argc, char** argv) {
     a.stop_after = vm["stop-after"].as<long>();
     if (a.stop_after < 1) throw InputError("--stop-after must be at least 1");
   }
+  if (vm.count("hurst")) a.hurst = vm["hurst"].as<std::string>();
+  if (vm.count("seeds")) a.seeds = vm["seeds"].as<int>();
+  if (vm.count("jobs")) a.jobs = vm["jobs"].as<int>();
+  if (vm.count("bins")) a.bins = vm["bins"].as<int>();
   const auto p = vm.count("positional") ? vm["positional"].as<std::vector<std::string>>()
                                         : std::vector<std::string>{};
   if (a.command.empty()) {
@@ -169,6 +180,21 @@ int cmd_surface(const Args& a) {
   return 0;
 }
 
+// Members are separate `fretbem run` processes; exit 4 when any of them failed.
+int cmd_ensemble(const Args& a) {
+  if (a.scenario.empty()) throw InputError("ensemble: no scenario file given");
+  EnsembleOptions o;
+  o.scenario = a.scenario;
+  o.sets = a.sets;
+  o.hurst = parse_hurst_list(a.hurst);
+  o.seeds = a.seeds, o.jobs = a.jobs, o.bins = a.bins;
+  o.out = a.out;
+  o.quiet = a.quiet;
+  const int failed = run_ensemble(o);
+  if (failed) std::fprintf(stderr, "fretbem ensemble: %d member(s) failed\n", failed);
+  return failed ? 4 : 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -179,7 +205,8 @@ int main(int argc, char** argv) {
     if (a.command == "run") return cmd_run(a);
     if (a.command == "check") return cmd_check(a);
     if (a.command == "surface") return cmd_surface(a);
-    throw InputError("unknown command '" + a.command + "' (run, check, surface)");
+    if (a.command == "ensemble") return cmd_ensemble(a);
+    throw InputError("unknown command '" + a.command + "' (run, check, surface, ensemble)");
   } catch (const InputError& e) {
     std::fprintf(stderr, "fretbem: error: %s\n", e.what());
     return 2;
