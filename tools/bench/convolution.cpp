@@ -124,8 +124,6 @@ Row run(int n, const Options& opt) {
   for (Eigen::Index k = 0; k < p.size(); ++k) p(k) = u01(rng);
 
   HalfSpace hs(grid, mat, Coupling::analogy, FftOptions{opt.threads, false});
-  row.conv_est = time_per_call([&] { hs.normal(p, u); }, opt.repeats);
-
   if (opt.measure) {
     const auto t0 = Clock::now();
     HalfSpace hm(grid, mat, Coupling::analogy, FftOptions{opt.threads, true});
@@ -133,31 +131,36 @@ Row run(int n, const Options& opt) {
     row.conv_meas = time_per_call([&] { hm.normal(p, u); }, opt.repeats);
   }
 
-  // Full Hertz solve with the default (ESTIMATE) operator, cold start each time.
+  // The bare convolution, the sparse update and the full solve are timed back to back in each
+  // repeat, and the ratios formed per repeat: on a shared machine the load changes between
+  // repeats, and a ratio of two times taken seconds apart would mix two loads.
   const double force = 4 * mat.E_star() * a * a * a / (3 * R);
-  NormalSolver solver(hs);  // default options: tolerance 1e-10
-  std::vector<double> t;
-  for (int r = 0; r < std::max(1, opt.repeats); ++r) {
-    Field q;
-    const auto t0 = Clock::now();
-    const NormalResult res = solver.solve_force(z, force, q);
-    t.push_back(seconds_since(t0));
-    row.iterations = res.iterations;
-    row.convolutions = res.convolutions;
-  }
-  row.solve = median(t);
-  row.per_iteration = row.solve / std::max(1, row.iterations);
-  row.ratio = row.per_iteration / row.conv_est;
-
-  // Sparse update: cost per node of normal_add_sparse, from a batch of 16 random nodes.
-  constexpr int nodes = 16;
+  NormalSolver solver(hs);   // default options: tolerance 1e-10
+  constexpr int nodes = 16;  // sparse update: cost per node from a batch of 16 random nodes
   std::vector<std::int64_t> idx(nodes);
   std::vector<double> val(nodes, 1.0);
   std::uniform_int_distribution<std::int64_t> pick(0, std::int64_t(grid.size()) - 1);
   for (auto& i : idx) i = pick(rng);
-  u = grid.zeros();
-  row.sparse_node = time_per_call([&] { hs.normal_add_sparse(idx, val, u); }, opt.repeats) / nodes;
-  row.break_even = row.conv_est / row.sparse_node;
+  Field us = grid.zeros();
+  std::vector<double> conv, solve, sparse, ratio, even;
+  for (int r = 0; r < opt.repeats; ++r) {
+    conv.push_back(time_per_call([&] { hs.normal(p, u); }, 1));
+    sparse.push_back(time_per_call([&] { hs.normal_add_sparse(idx, val, us); }, 1) / nodes);
+    Field q;
+    const auto t0 = Clock::now();
+    const NormalResult res = solver.solve_force(z, force, q);  // cold start
+    solve.push_back(seconds_since(t0));
+    row.iterations = res.iterations;
+    row.convolutions = res.convolutions;
+    ratio.push_back(solve.back() / std::max(1, res.iterations) / conv.back());
+    even.push_back(conv.back() / sparse.back());
+  }
+  row.conv_est = median(conv);
+  row.solve = median(solve);
+  row.per_iteration = row.solve / std::max(1, row.iterations);
+  row.ratio = median(ratio);
+  row.sparse_node = median(sparse);
+  row.break_even = median(even);
   return row;
 }
 
@@ -172,8 +175,8 @@ int main(int argc, char** argv) {
     rows.push_back(run(n, opt));
   }
   std::printf(
-      "FFTW threads: %d; median of %d repeats; Hertz solve: force control, tolerance "
-      "1e-10, ESTIMATE plans, cold start.\n\n",
+      "FFTW threads: %d; median of %d repeats (ratios formed within each repeat); Hertz "
+      "solve: force control, tolerance 1e-10, ESTIMATE plans, cold start.\n\n",
       opt.threads, opt.repeats);
   std::printf(
       "| n | padded | conv ESTIMATE (ms) | conv MEASURE (ms) | MEASURE plan (s) | solve (ms) | "
