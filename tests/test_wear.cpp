@@ -147,7 +147,6 @@ TEST(WearPartialSlip, StickZoneUnwornAnnulusShakesDown) {
   EXPECT_LT(masked_max(W, stick), 1e-6 * wmax);
   EXPECT_EQ(masked_max(W, outside), 0.0);
   EXPECT_EQ(((W > 0.0).cast<double>() * annulus).sum(), annulus.sum());  // all worn
-  EXPECT_GT((W * annulus).maxCoeff(), 0.99 * wmax);                      // max in it
   // Stick area at the peak load: unchanged by wear (same discrete set) and near pi c^2.
   const auto& hist = r.rep.history;
   EXPECT_EQ(hist.front().stick_area, hist.back().stick_area);
