@@ -59,6 +59,7 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
   if (sc.solver.stiffness)
     m->stiffness = std::make_unique<StiffnessSolver>(
         *m->tangential_operator, std::max(sc.solver.tolerance, 1e-9), sc.solver.max_iterations);
+  m->wear = make_wear_model(sc.wear);
   return m;
 }
 

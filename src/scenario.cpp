@@ -536,7 +536,8 @@ void read_wear(const Reader& r, WearSpec& w) {
   if (r.has("wear.coefficient")) w.coefficient = r.positive("wear.coefficient");
   if (r.has("wear.cycles")) w.cycles = r.positive("wear.cycles");
   if (r.has("wear.integrator"))
-    w.integrator = static_cast<WearIntegrator>(r.choice("wear.integrator", {"arkode", "cycle"}));
+    w.integrator = static_cast<WearIntegrator>(
+        r.choice("wear.integrator", {"arkode", "cycle", "erk", "dirk"}));
   if (r.has("wear.rtol")) w.rtol = r.positive("wear.rtol");
   if (r.has("wear.atol")) w.atol = r.positive("wear.atol");
   if (w.law == WearLaw::none) return;
@@ -664,7 +665,8 @@ void write_wear(IniWriter& w, const WearSpec& s) {
   // 0 means "not given" (both must be > 0 when given).
   w.put("coefficient", s.coefficient > 0 ? std::optional<double>(s.coefficient) : std::nullopt);
   w.put("cycles", s.cycles > 0 ? std::optional<double>(s.cycles) : std::nullopt);
-  w.put("integrator", std::string(s.integrator == WearIntegrator::arkode ? "arkode" : "cycle"));
+  static const char* integrators[] = {"arkode", "cycle", "erk", "dirk"};
+  w.put("integrator", std::string(integrators[static_cast<int>(s.integrator)]));
   w.put("rtol", s.rtol);
   w.put("atol", s.atol);
 }

@@ -36,11 +36,16 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m) {
 }
 
 StepRecord Stepper::advance(std::size_t k) {
-  const LoadStep& ls = model_.path.steps.at(k);
+  const StepRecord rec = advance(model_.path.steps.at(k), int(k));
+  next_ = k + 1;
+  return rec;
+}
+
+StepRecord Stepper::advance(const LoadStep& ls, int k) {
   HalfSpace& hs = *model_.half_space;
   const auto conv0 = hs.convolutions();
   StepRecord rec;
-  rec.step = int(k);
+  rec.step = k;
   rec.time = ls.time;
   rec.cycle = ls.cycle;
   rec.turning = ls.turning;
@@ -65,22 +70,26 @@ StepRecord Stepper::advance(std::size_t k) {
   rec.dissipation = dissipation_;
   rec.wear_volume = wear_volume_;
   rec.convolutions = int(hs.convolutions() - conv0);
-  next_ = k + 1;
   return rec;
 }
 
 // Normal solve, skipped when neither the normal load nor the surface changed. Returns whether
 // the Coulomb bound mu p changed.
 bool Stepper::normal_step(const LoadStep& ls, StepRecord& rec) {
-  if (last_normal_ && *last_normal_ == ls.normal) return false;
+  if (last_normal_ && *last_normal_ == ls.normal && !surface_changed_) return false;
   NormalSolver& ns = *model_.normal;
+  // The solver measures delta from first touch at max(z); a worn surface's highest point may
+  // lie below the original one, so delta is converted to the unworn surface's datum (its
+  // growth under constant normal force is the wear's signature).
+  const double datum = model_.surface0.maxCoeff() - model_.surface.maxCoeff();
   const NormalResult r =
       ls.normal.force_control
           ? ns.solve_force(model_.surface, ls.normal.value, state_.pressure)
-          : ns.solve_indentation(model_.surface, ls.normal.value, state_.pressure);
+          : ns.solve_indentation(model_.surface, ls.normal.value - datum, state_.pressure);
   last_normal_ = ls.normal;
+  surface_changed_ = false;
   state_.normal_force = r.force;
-  state_.indentation = r.indentation;
+  state_.indentation = r.indentation + datum;
   bound_ = model_.scenario.material.mu * state_.pressure;
   rec.normal_iterations = r.iterations;
   rec.normal_residual = r.residual;
@@ -157,21 +166,27 @@ void Stepper::shortcut_step(const LoadStep& ls, StepRecord& rec) {
 
 // Slip increment s = dU - (u - u0) per slip node (stick nodes do not slip: what the solver
 // leaves there is its residual); Coulomb dissipation tau . s with the end-of-step traction
-// (exact: a node slips only at the bound).
+// (exact: a node slips only at the bound). The wear law, when there is one, takes the same s.
 void Stepper::accumulate_slip(const VecField& u0, const Eigen::VectorXd& dU, StepRecord&) {
   const int nc = int(state_.traction.size());
   Field work = Field::Zero(bound_.rows(), bound_.cols());
   Field len2 = work;
   const Field slipping = (state_.state == std::uint8_t(NodeState::slip)).cast<double>();
+  VecField s(nc);
   for (int c = 0; c < nc; ++c) {
-    const Field s = slipping * (dU(c) - (state_.displacement[c] - u0[c]));
-    state_.slip[c] += s;
-    work += state_.traction[c] * s;
-    len2 += s.square();
+    s[c] = slipping * (dU(c) - (state_.displacement[c] - u0[c]));
+    state_.slip[c] += s[c];
+    work += state_.traction[c] * s[c];
+    len2 += s[c].square();
   }
   state_.slip_path += len2.sqrt();
   state_.dissipation += work;
-  dissipation_ += work.sum() * model_.half_space->grid().cell_area();
+  const double h2 = model_.half_space->grid().cell_area();
+  dissipation_ += work.sum() * h2;
+  if (!model_.wear) return;  // no wear arithmetic without a wear law
+  const Field dh = model_.wear->increment(state_.pressure, state_.traction, s);
+  state_.wear += dh;
+  wear_volume_ += dh.sum() * h2;
 }
 
 }  // namespace fretbem

@@ -9,6 +9,7 @@
 #include "fretbem/scenario.hpp"
 #include "fretbem/stiffness.hpp"
 #include "fretbem/tangential_solver.hpp"
+#include "fretbem/wear_model.hpp"
 
 namespace fretbem {
 
@@ -22,6 +23,7 @@ struct Model {
   std::unique_ptr<TangentialOperator> tangential_operator;
   std::unique_ptr<TangentialSolver> tangential;
   std::unique_ptr<StiffnessSolver> stiffness;  ///< null when solver.stiffness = false
+  std::unique_ptr<WearModel> wear;             ///< null when wear.law = none
 };
 
 /// Builds the surface and operators. The tangential operator is one-component (no y-solve)

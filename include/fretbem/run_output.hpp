@@ -32,6 +32,8 @@ class ResultFile final : public Observer {
   void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) override;
   void on_finish(const InterfaceState& state, const Model& model) override;
   const std::filesystem::path& path() const { return h5_.path(); }
+  /// The file itself, for writers of other groups (wear snapshots).
+  io::Hdf5Writer& writer() { return h5_; }
 
  private:
   io::Hdf5Writer h5_;

@@ -19,7 +19,7 @@ enum class PathType { none, ramp, sine, table };
 enum class Control { force, displacement };
 enum class TangentialAlgorithm { projected, partition };
 enum class WearLaw { none, archard, energy };
-enum class WearIntegrator { arkode, cycle };
+enum class WearIntegrator { arkode, cycle, erk, dirk };  // arkode: the measured best of erk/dirk
 
 struct SurfaceSpec {
   SurfaceType type = SurfaceType::sphere;

@@ -36,6 +36,12 @@ class Stepper {
   std::size_t run(const std::vector<Observer*>& observers, std::size_t max_steps = SIZE_MAX);
   /// Runs step k only (k = 0 is the initial normal loading); returns its record.
   StepRecord advance(std::size_t k);
+  /// Runs one step given explicitly (wear cycles replay the path's cycle); `index` is its row.
+  StepRecord advance(const LoadStep& ls, int index);
+  /// The indenter surface (Model::surface) changed: the next step re-solves the normal contact
+  /// even at an unchanged normal load (DESIGN §2 "no normal re-solve when F_z, delta and the
+  /// surface did not change").
+  void surface_changed() { surface_changed_ = true; }
 
   const InterfaceState& state() const { return state_; }
   /// Restart support: the complete state after the last finished step, and its restoration.
@@ -58,6 +64,7 @@ class Stepper {
   double dissipation_ = 0.0;
   double wear_volume_ = 0.0;
   std::size_t next_ = 0;
+  bool surface_changed_ = false;
 };
 
 }  // namespace fretbem

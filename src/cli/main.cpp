@@ -16,6 +16,7 @@
 #include "fretbem/scenario.hpp"
 #include "fretbem/stepper.hpp"
 #include "fretbem/surface.hpp"
+#include "fretbem/wear_integrator.hpp"
 
 namespace po = boost::program_options;
 using namespace fretbem;
@@ -154,6 +155,11 @@ int cmd_run(const Args& a) {
   Scenario sc = read_scenario(a);
   if (!a.out.empty()) sc.output.dir = a.out;
   auto model = build_model(sc);
+  if (model->wear) {  // wear runs: their own driver (no checkpoints yet)
+    if (a.stop_after > 0) throw InputError("--stop-after: not supported for wear runs");
+    run_wear(*model, a.quiet);
+    return 0;
+  }
   Stepper stepper(*model);
   return run_model(*model, stepper, -1, a);
 }

@@ -242,9 +242,12 @@ void Hdf5Writer::write_field(const std::string& path, const Field& field) {
 }
 
 void Hdf5Writer::write_step_fields(std::int64_t step, double time,
-                                   const std::map<std::string, Field>& fields) {
-  char name[64];
-  std::snprintf(name, sizeof name, "/fields/step_%06lld", static_cast<long long>(step));
+                                   const std::map<std::string, Field>& fields,
+                                   const std::string& prefix) {
+  char num[32];
+  std::snprintf(num, sizeof num, "%06lld", static_cast<long long>(step));
+  const std::string group = prefix + num;
+  const char* name = group.c_str();
   impl_->remove_if_exists(name);
   const PlistH lcpl = impl_->link_plist();
   GroupH g(impl_->check(H5Gcreate2(impl_->file.get(), name, lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),

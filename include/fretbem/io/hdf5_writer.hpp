@@ -42,8 +42,9 @@ class Hdf5Writer {
   void write_field(const std::string& path, const Field& field);
   /// Group /fields/step_%06d with attributes step and time and one dataset per entry.
   /// A group of the same step written before (e.g. by a resumed run) is replaced.
-  void write_step_fields(std::int64_t step, double time,
-                         const std::map<std::string, Field>& fields);
+  /// `prefix` names the group family (wear snapshots use "/wear/snapshot_").
+  void write_step_fields(std::int64_t step, double time, const std::map<std::string, Field>& fields,
+                         const std::string& prefix = "/fields/step_");
 
   /// Creates /timeseries with these column names (replacing an old one). Needed once before
   /// append_row, unless open_existing found a time series.

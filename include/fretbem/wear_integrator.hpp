@@ -1,0 +1,118 @@
+// Wear integration over the cycle count N (DESIGN §1 "Wear", §2 "(wear) cycle integrator
+// updates Surface between cycles"; issue 6).
+//
+// The surface is updated between cycles, never within one: a cycle is simulated on a frozen
+// surface (constant normal load => one normal solve, constant Coulomb bound, a tangential
+// history that is exactly the Mindlin–Deresiewicz loop of that surface), and its worn depth
+// w(z) is then applied, z <- z - w. Updating within a cycle would change the pressure, hence
+// the bound, at every step (a normal solve per step) for a correction of relative order
+// w/delta, which is 1e-6..1e-3 in fretting; and it would make the per-cycle wear map w(z) that
+// the ODE integrator needs ill-defined.
+//
+// Modes (wear.integrator):
+//  - cycle: the reference. Cycle after cycle with tractions carried (the physical history);
+//    each cycle's wear is applied before the next.
+//  - arkode / erk: dW/dN = w(z0 - W) for the worn depth W, explicit adaptive Runge–Kutta
+//    (SUNDIALS ARKODE ERKStep), error-controlled, with the step capped by the explicit stability
+//    bound dN k s_max K_max <= 1 (issue 6), K_max = 1.7 E*/h. The right-hand side is the
+//    steady cycle of the surface: from a fresh (traction-free) state, monotone loading to the
+//    path's first turning point, then one full cycle back to it. For Coulomb friction at
+//    constant pressure that loop is closed from the first turning point on (Masing /
+//    Mindlin–Deresiewicz), so w is a function of z alone — not of a traction state carried
+//    from a different surface, which is what eroded the stick zone in the prototype.
+//  - dirk: the same ODE by ARKODE ARKStep, implicit SDIRK, Newton–Krylov (SPGMR) with
+//    Jacobian-vector products by finite differences of the per-cycle wear map.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "fretbem/stepper.hpp"
+
+namespace fretbem {
+
+class ResultFile;
+
+/// One simulated cycle and what it says about the surface it ran on.
+struct WearCycle {
+  double N = 0.0;               ///< cycle count the simulated cycle stands for
+  Field rate;                   ///< worn depth of the cycle (m per cycle)
+  double energy = 0.0;          ///< energy dissipated in the cycle (J)
+  double wear_volume = 0.0;     ///< worn volume of the surface it ran on, sum W h^2 (m^3)
+  double max_depth = 0.0;       ///< max worn depth of that surface (m)
+  double contact_radius = 0.0;  ///< sqrt(A / pi) (m)
+  double stick_area = 0.0;      ///< smallest stick area in the cycle (at its peak load) (m^2)
+  double peak_pressure = 0.0;   ///< max p (Pa)
+  double delta = 0.0;           ///< indentation against the unworn datum (m)
+  double max_slip = 0.0;        ///< largest slip path length of a node in the cycle (m)
+};
+
+struct WearReport {
+  Field worn;                      ///< final worn depth W = z0 - z (m)
+  std::vector<WearCycle> history;  ///< every simulated cycle (rate fields dropped)
+  double simulated_cycles = 0.0;   ///< simulated cycles (a steady cycle counts as 1.25)
+  int rhs_evaluations = 0;         ///< wear-map evaluations (cycles in cycle mode)
+  long steps = 0, rejected = 0;    ///< integrator steps (arkode/dirk)
+  double N = 0.0;                  ///< cycle count reached
+};
+
+/// Destination of the wear outputs: DIR/wear.csv, snapshots in result.h5, progress.
+class WearLog {
+ public:
+  virtual ~WearLog() = default;
+  virtual void cycle(const WearCycle& /*c*/, double /*simulated*/) {}
+  /// Fields at N (worn depth, pressure): called at the geometric sequence of N.
+  virtual void snapshot(double /*N*/, const Field& /*worn*/, const Field& /*pressure*/) {}
+};
+
+/// Simulates cycles of the scenario's load path (its first period) on the model's surface.
+class WearCycles {
+ public:
+  WearCycles(Model& model, Stepper& stepper, std::vector<Observer*> observers = {});
+  /// The initial normal loading (row 0).
+  void start();
+  /// One cycle continuing the stepper's history (cycle mode); the surface is not touched.
+  WearCycle carried(double N);
+  /// The steady cycle of surface z0 - worn, from a fresh traction state (ODE right-hand side).
+  WearCycle steady(double N, const Field& worn);
+  /// Pressure on surface z0 - worn under the scenario's normal load.
+  Field pressure_on(const Field& worn);
+  /// Removes one cycle's worn depth from the surface, z <- z - rate (cycle mode).
+  void apply(const Field& rate);
+  /// Pressure of the last simulated step.
+  const Field& pressure() const { return stepper_.state().pressure; }
+  double simulated() const { return simulated_; }
+  int evaluations() const { return evaluations_; }
+
+ private:
+  void fresh(const Field& worn);
+  StepRecord step(const LoadStep& ls, double time, bool emit);
+  WearCycle measure(double N, const std::vector<LoadStep>& steps, double t_shift);
+
+  Model& model_;
+  Stepper& stepper_;
+  std::vector<Observer*> observers_;
+  LoadStep initial_;
+  std::vector<LoadStep> cycle_, virgin_, steady_;  // one period; to 1st turning; turning->turning
+  double turn_ = 0.0;                              // time of the first turning point
+  double simulated_ = 0.0;
+  int evaluations_ = 0, row_ = 0, index_ = 0;
+};
+
+/// Runs wear.integrator to wear.cycles. log may be null.
+WearReport integrate_wear(Model& model, WearCycles& cycles, WearLog* log);
+
+/// Stability cap on the cycle step of an explicit integrator: 1 / (k_eq s_max K_max),
+/// K_max = 1.7 E*/h the largest eigenvalue of the normal influence matrix (issue 6).
+double explicit_step_cap(const Model& model, double max_slip);
+
+/// Geometric output sequence 0, 1, 2, 5, 10, 20, 50, ... up to and including N_end.
+std::vector<double> snapshot_cycles(double N_end);
+
+/// The `fretbem run` of a scenario with a wear law: timeseries.csv (rows of every simulated
+/// cycle; time = simulated-cycle index + phase), cycles.csv, wear.csv, result.h5 with wear
+/// snapshots. Prints the simulated-cycle count unless quiet.
+WearReport run_wear(Model& model, bool quiet);
+
+}  // namespace fretbem
