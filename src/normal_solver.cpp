@@ -141,7 +141,13 @@ double NormalSolver::gap_residual(bool force_control, double delta, const Field&
   *delta_out = delta;
   const double on = (S.cast<double>() * g * g).sum();
   const double off = (S.select(0.0, g.min(0.0))).square().sum();
-  const double scale = std::sqrt((S.cast<double>() * u_ * u_).sum() / n);
+  // Scale: the rms displacement on S, or the rms height variation over S when that is larger.
+  // The second matters on periodic grids, where a uniform pressure displaces nothing (the
+  // mean mode has zero compliance): the displacement alone would call full contact converged.
+  const auto Sd = S.cast<double>();
+  const double h0bar = (Sd * h0_).sum() / n;
+  const double scale = std::max(std::sqrt((Sd * u_ * u_).sum() / n),
+                                std::sqrt((Sd * (h0_ - h0bar).square()).sum() / n));
   if (!(scale > 0.0)) return S.count() == 0 ? 1.0 : 0.0;
   return std::sqrt((on + off) / n) / scale;
 }
