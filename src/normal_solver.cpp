@@ -13,8 +13,8 @@ namespace {
 
 // A pressure change on at most this many nodes is applied to the displacement by direct
 // summation (cost ~ n^2 per node) rather than a convolution (cost ~ 4 n^2 log n): the break-even
-// measured in tools/bench/convolution is a few dozen nodes.
-constexpr std::size_t kSparseLimit = 24;
+// measured in tools/bench/convolution is 66-142 nodes for n = 128 ... 1024 (docs/performance.md).
+constexpr std::size_t kSparseLimit = 64;
 
 }  // namespace
 

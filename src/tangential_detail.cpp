@@ -128,8 +128,37 @@ void Workspace::restore_force(VecField& tau, VecField& u) {
   const Eigen::VectorXd want = inc.target / area;
   if ((total_force(tau, op.grid()) / area - want).norm() <= tol) return;
   const Field stick = free_mask(g, magnitude(tau));
-  if (shift_to_force(stick, want, tau) > tol) shift_to_force((g > 0.0).cast<double>(), want, tau);
-  op.apply(tau, u);
+  const VecField before = tau;
+  if (shift_to_force(stick, want, tau) > tol) {
+    shift_to_force((g > 0.0).cast<double>(), want, tau);
+    op.apply(tau, u);
+    return;
+  }
+  if (!add_uniform_shift(stick, before, tau, u)) op.apply(tau, u);
+}
+
+// When the force correction moved every stick node by the same lambda (no node reached its
+// bound) and the components are decoupled (analogy), u changes by lambda C 1_S: C 1_S is kept
+// while the stick set S stays the same, so the correction costs no convolution.
+bool Workspace::add_uniform_shift(const Field& stick, const VecField& before, const VecField& tau,
+                                  VecField& u) {
+  if (op.half_space().coupling() != Coupling::analogy) return false;
+  const double n = stick.sum(), tol = 1e-13 * inc.bound->maxCoeff();
+  if (!(n > 0.0)) return false;
+  std::vector<double> lambda(tau.size());
+  for (std::size_t c = 0; c < tau.size(); ++c) {
+    const Field diff = tau[c] - before[c];
+    lambda[c] = (stick * diff).sum() / n;
+    if ((diff - lambda[c] * stick).abs().maxCoeff() > tol) return false;
+  }
+  if (stick_mask.size() != stick.size() || !(stick_mask == stick).all()) {
+    VecField load = op.zeros(), w;
+    load[0] = stick;
+    op.apply(load, w);
+    stick_mask = stick, stick_image = w[0];
+  }
+  for (std::size_t c = 0; c < tau.size(); ++c) u[c] += lambda[c] * stick_image;
+  return true;
 }
 
 double Workspace::shift_to_force(const Field& movable, const Eigen::VectorXd& want,
@@ -226,8 +255,10 @@ bool Workspace::slip_node_step(const Field& free, VecField& tau, VecField& u) {
     y = t + omega * s;
     const double over = std::max(0.0, y.norm() - g(k));
     if (over > 0.0) y *= g(k) / y.norm();
+    // Moves at round-off level (projecting back onto the circle a node that slips outward)
+    // are no moves: counting them would make every iteration a dense update.
     const double dd = (y - t).squaredNorm();
-    if (!(dd > 0.0)) continue;
+    if (!(dd > 1e-28 * g(k) * g(k))) continue;
     idx.push_back(k);
     for (int c = 0; c < nc; ++c) val[c].push_back(y(c) - t(c)), d[c](k) = y(c) - t(c);
     // s . d without cancellation: with y - t = omega s and t on the circle |t| = g,

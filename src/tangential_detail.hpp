@@ -50,6 +50,8 @@ struct Workspace {
   void restore_force(VecField& tau, VecField& u);
   /// tau_i <- P_i(tau_i + lambda) on the movable nodes with the lambda that brings the total
   /// (in Pa * cells) closest to `want`; returns the remaining mismatch.
+  bool add_uniform_shift(const Field& stick, const VecField& before, const VecField& tau,
+                         VecField& u);
   double shift_to_force(const Field& movable, const Eigen::VectorXd& want, VecField& tau) const;
   /// Fills the report; throws SolverError when the increment did not converge.
   TangentialResult finish(const VecField& tau, const std::string& algorithm);
@@ -58,7 +60,9 @@ struct Workspace {
   const TangentialIncrement& inc;
   TangentialOptions opt;
   double scale = 1.0;
-  bool dirty = false;  ///< u lags tau by second-order terms: recompute before trusting it
+  bool dirty = false;
+  Field stick_mask, stick_image;  ///< S and C 1_S of the last uniform force correction  ///< u lags
+                                  ///< tau by second-order terms: recompute before trusting it
   std::int64_t conv0 = 0;
   TangentialResult result;
 };

@@ -4,7 +4,7 @@ namespace fretbem {
 
 namespace {
 // Sparse direct summation pays for itself below this many changed nodes (see normal_solver.cpp).
-constexpr std::size_t kSparseLimit = 24;
+constexpr std::size_t kSparseLimit = 64;
 }  // namespace
 
 TangentialOperator::TangentialOperator(HalfSpace& hs) : hs_(hs), ncomp_(2) {}
