@@ -172,8 +172,8 @@ int main(int argc, char** argv) {
           e = score(name, c.rows);
         }
         std::printf("%s,%d,%.0e,%.6g,%.6g,%ld,%ld,%.6e,%.6e\n", name.c_str(), n, tol,
-                    bench::median(wall), bench::median(cpu), e.iterations, e.convolutions,
-                    e.error, e.error2);
+                    bench::median(wall), bench::median(cpu), e.iterations, e.convolutions, e.error,
+                    e.error2);
         std::fflush(stdout);
       }
     }

@@ -14,15 +14,15 @@
 // Per row: mean iterations and FFT convolutions per increment, median (over repeats) wall and
 // process-CPU time per increment, CPU time per iteration, and that over the CPU time of one
 // bare convolution of the same padded size measured in the same run. CPU time is the robust
-// figure on a shared machine: wall time includes waiting for other processes. Then the ratio of convolutions per increment
-// partition / projected. Prints Markdown.
+// figure on a shared machine: wall time includes waiting for other processes. Then the ratio of
+// convolutions per increment partition / projected. Prints Markdown.
 //
 // Usage: bench_tangential [--max-n N] [--min-n N] [--repeats R] [--threads T] [--tol X]
 //                         [--case cattaneo|rough|both]
 #include <cmath>
-#include <ctime>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <map>
 #include <memory>
 #include <string>
@@ -261,8 +261,8 @@ int main(int argc, char** argv) {
     // Order within a (case, n) block: projected warm, projected cold, partition warm, cold.
     std::printf("| %s | %d | %.1f | %.1f | %.1f | %.1f |\n", rows[i].name.c_str(), rows[i].n,
                 rows[i + 2].convolutions / rows[i].convolutions,
-                rows[i + 3].convolutions / rows[i + 1].convolutions,
-                rows[i + 2].cpu / rows[i].cpu, rows[i + 3].cpu / rows[i + 1].cpu);
+                rows[i + 3].convolutions / rows[i + 1].convolutions, rows[i + 2].cpu / rows[i].cpu,
+                rows[i + 3].cpu / rows[i + 1].cpu);
   }
   return 0;
 }
