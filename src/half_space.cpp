@@ -228,7 +228,9 @@ void HalfSpace::normal_inverse(const Field& r, Field& z) {
     const double top = *std::max_element(F.sz.begin(), F.sz.end()), floor = 1e-6 * top;
     F.sz_inv.resize(ns);
     for (std::size_t k = 0; k < ns; ++k)
-      F.sz_inv[k] = F.sz[k] == 0.0 ? 0.0 : inv_n2 / std::max(F.sz[k], floor);
+      // The periodic mean mode (sz = 0) gets the largest value, that of its lowest-q
+      // neighbours: a zero there would make M singular and lose the mean pressure.
+      F.sz_inv[k] = inv_n2 / (F.sz[k] == 0.0 ? top : std::max(F.sz[k], floor));
   }
   F.load(r);
   F.r2c(F.c1.get());

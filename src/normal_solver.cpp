@@ -127,7 +127,9 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
 // z = S K^-1 (S g), mean-free on S under force control so that directions keep the force
 // (g is mean-free on S there, so g . z is unchanged by the shift).
 const Field& NormalSolver::precondition(const Eigen::ArrayXXd& S, bool force_control) {
-  if (!opt_.precondition) return g_;
+  const bool on = opt_.precondition == Precondition::on ||
+                  (opt_.precondition == Precondition::automatic && hs_.grid().size() >= 256 * 256);
+  if (!on) return g_;
   hs_.normal_inverse(S * g_, z_);
   z_ *= S;
   if (force_control) z_ -= S * ((S * z_).sum() / std::max(1.0, S.sum()));

@@ -46,7 +46,8 @@ class HalfSpace {
 
   /// Fourier preconditioner z = K_z^-1 * r: division by the (padded) kernel spectrum, one
   /// convolution's cost (Vollebregt, J. Comput. Phys. 257, 2014; Bazrafshan et al. 2017).
-  /// The spectrum is floored at 1e-6 of its largest value; the periodic mean mode maps to 0.
+  /// The spectrum is floored at 1e-6 of its largest value; the periodic mean mode (zero in the
+  /// spectrum) takes the largest value, so that M stays positive definite.
   void normal_inverse(const Field& r, Field& z);
 
   /// Adds K_z * e to u for a sparse pressure change e (values at the given linear indices), by

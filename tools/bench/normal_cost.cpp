@@ -57,7 +57,7 @@ struct Result {
 };
 
 Result solve(HalfSpace& hs, const Field& z, double force, bool pre, int repeats) {
-  NormalSolver ns(hs, {1e-10, 20000, pre});
+  NormalSolver ns(hs, {1e-10, 20000, pre ? Precondition::on : Precondition::off});
   Result res;
   std::vector<double> t;
   for (int r = 0; r < repeats; ++r) {
