@@ -55,6 +55,7 @@ struct HalfSpace::Fft {
   fftw_plan forward = nullptr, inverse = nullptr;
   // Kernel spectra, real (the kernels are even), pre-divided by n0*n1.
   std::vector<double> sz, sxx, syy, sxy;
+  std::vector<double> sz_inv;  // 1 / spectrum, pre-divided by n0*n1; built on first use
 
   Fft(int n0_, int n1_, FftOptions opt) : n0(n0_), n1(n1_), nc(n1_ / 2 + 1) {
     const std::size_t nr = std::size_t(n0) * n1, ncx = std::size_t(n0) * nc;
@@ -219,6 +220,27 @@ void HalfSpace::normal(const Field& p, Field& uz) {
   ++convolutions_;
 }
 
+void HalfSpace::normal_inverse(const Field& r, Field& z) {
+  Fft& F = *fft_;
+  const std::size_t ns = std::size_t(F.n0) * F.nc;
+  if (F.sz_inv.empty()) {
+    const double n = double(F.n0) * F.n1, inv_n2 = 1.0 / (n * n);
+    const double top = *std::max_element(F.sz.begin(), F.sz.end()), floor = 1e-6 * top;
+    F.sz_inv.resize(ns);
+    for (std::size_t k = 0; k < ns; ++k)
+      // The periodic mean mode (sz = 0) gets the largest value, that of its lowest-q
+      // neighbours: a zero there would make M singular and lose the mean pressure.
+      F.sz_inv[k] = inv_n2 / (F.sz[k] == 0.0 ? top : std::max(F.sz[k], floor));
+  }
+  F.load(r);
+  F.r2c(F.c1.get());
+  for (std::size_t k = 0; k < ns; ++k) F.c1[k][0] *= F.sz_inv[k], F.c1[k][1] *= F.sz_inv[k];
+  F.c2r(F.c1.get());
+  z.resize(grid_.nx, grid_.ny);
+  F.store(z);
+  ++convolutions_;
+}
+
 void HalfSpace::tangential_analogy(const Field& t, Field& u) {
   normal(t, u);
   u *= ratio_;
@@ -268,6 +290,11 @@ void HalfSpace::add_sparse(const Eigen::ArrayXXd& kernel, double scale,
       for (int i = si; i < nx; ++i) urow[i] += v * krow[i - si];
     }
   }
+}
+
+std::size_t HalfSpace::sparse_limit() const {
+  const double side = std::sqrt(double(grid_.nx) * double(grid_.ny));
+  return std::max<std::size_t>(24, std::size_t(0.5 * side));
 }
 
 void HalfSpace::normal_add_sparse(std::span<const std::int64_t> idx, std::span<const double> val,

@@ -9,15 +9,6 @@
 
 namespace fretbem {
 
-namespace {
-
-// A pressure change on at most this many nodes is applied to the displacement by direct
-// summation (cost ~ n^2 per node) rather than a convolution (cost ~ 4 n^2 log n): the break-even
-// measured in tools/bench/convolution is 66-142 nodes for n = 128 ... 1024 (docs/performance.md).
-constexpr std::size_t kSparseLimit = 64;
-
-}  // namespace
-
 NormalSolver::NormalSolver(HalfSpace& half_space, NormalOptions options)
     : hs_(half_space), opt_(options) {}
 
@@ -82,8 +73,9 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
     verified = false;
     if (it == opt_.max_iterations) break;
     const Eigen::ArrayXXd S = (p > 0.0).cast<double>();  // evaluated now: p changes below
-    const double G = (S * g_ * g_).sum();
-    t_ = S * (g_ + (restart ? 0.0 : G / g_old) * t_);
+    const Field& z = precondition(S, force_control);
+    const double G = (S * g_ * z).sum();
+    t_ = S * (z + (restart ? 0.0 : G / g_old) * t_);
     g_old = G;
     hs_.normal(t_, r_);
     double rbar = 0.0;
@@ -107,7 +99,9 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
       }
       if (e != 0.0) p(k) += e, idx.push_back(k), val.push_back(e);
     }
-    if (idx.size() <= kSparseLimit)
+    // Few changed nodes: direct summation (~n^2 per node) beats a convolution (~4 n^2 log n)
+    // below HalfSpace::sparse_limit(), measured in tools/bench/convolution.
+    if (idx.size() <= hs_.sparse_limit())
       hs_.normal_add_sparse(idx, val, u_);
     else
       hs_.normal(p, u_);
@@ -127,6 +121,19 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
     throw SolverError(msg.str());
   }
   return res;
+}
+
+// The search direction's raw material: the gap g itself (Polonsky–Keer) or, preconditioned,
+// z = S K^-1 (S g), mean-free on S under force control so that directions keep the force
+// (g is mean-free on S there, so g . z is unchanged by the shift).
+const Field& NormalSolver::precondition(const Eigen::ArrayXXd& S, bool force_control) {
+  const bool on = opt_.precondition == Precondition::on ||
+                  (opt_.precondition == Precondition::automatic && hs_.grid().size() >= 256 * 256);
+  if (!on) return g_;
+  hs_.normal_inverse(S * g_, z_);
+  z_ *= S;
+  if (force_control) z_ -= S * ((S * z_).sum() / std::max(1.0, S.sum()));
+  return z_;
 }
 
 // Relative KKT residual: rms gap on S and rms penetration off S, over the rms displacement on S.

@@ -2,11 +2,6 @@
 
 namespace fretbem {
 
-namespace {
-// Sparse direct summation pays for itself below this many changed nodes (see normal_solver.cpp).
-constexpr std::size_t kSparseLimit = 64;
-}  // namespace
-
 TangentialOperator::TangentialOperator(HalfSpace& hs) : hs_(hs), ncomp_(2) {}
 
 TangentialOperator::TangentialOperator(HalfSpace& hs, Vec2 direction)
@@ -24,7 +19,8 @@ void TangentialOperator::add_sparse(std::span<const std::int64_t> idx,
                                     const std::vector<std::vector<double>>& val,
                                     const VecField& tau, VecField& u) {
   if (idx.empty()) return;
-  if (idx.size() > kSparseLimit || hs_.coupling() == Coupling::cerruti) {
+  // Sparse direct summation pays for itself below HalfSpace::sparse_limit() changed nodes.
+  if (idx.size() > hs_.sparse_limit() || hs_.coupling() == Coupling::cerruti) {
     apply(tau, u);
     return;
   }

@@ -44,6 +44,12 @@ class HalfSpace {
   /// Tangential displacements (ux, uy) of tractions (tx, ty) with the selected coupling.
   void tangential(const Field& tx, const Field& ty, Field& ux, Field& uy);
 
+  /// Fourier preconditioner z = K_z^-1 * r: division by the (padded) kernel spectrum, one
+  /// convolution's cost (Vollebregt, J. Comput. Phys. 257, 2014; Bazrafshan et al. 2017).
+  /// The spectrum is floored at 1e-6 of its largest value; the periodic mean mode (zero in the
+  /// spectrum) takes the largest value, so that M stays positive definite.
+  void normal_inverse(const Field& r, Field& z);
+
   /// Adds K_z * e to u for a sparse pressure change e (values at the given linear indices), by
   /// direct summation with the real-space kernel: cheaper than a convolution for few nodes.
   void normal_add_sparse(std::span<const std::int64_t> idx, std::span<const double> val,
@@ -51,6 +57,11 @@ class HalfSpace {
   /// Same for the analogy tangential operator (scaled normal kernel).
   void tangential_add_sparse(std::span<const std::int64_t> idx, std::span<const double> val,
                              Field& u) const;
+
+  /// Largest number of changed nodes for which the *_add_sparse updates are cheaper than one
+  /// convolution. The break-even measured by bench_convolution grows about linearly with the
+  /// side (~70 nodes at n = 128, ~140 at 256): half the side stays below it.
+  std::size_t sparse_limit() const;
 
   /// Normal self-compliance K_z(0,0) (m/Pa): the displacement of a cell under its own unit
   /// pressure; the largest diagonal entry of the operator.

@@ -29,6 +29,12 @@ struct Model {
 /// Builds the surface and operators. The tangential operator is one-component (no y-solve)
 /// when the coupling is the analogy and the path is collinear.
 std::unique_ptr<Model> build_model(const Scenario& sc);
+/// Upper estimate of the peak memory (bytes) of a run of this scenario, from the grid alone:
+/// calibrated on peak RSS measured with /usr/bin/time -v (docs/performance.md, "Memory").
+double estimated_peak_bytes(const Scenario& sc);
+/// Throws InputError (one line) when the estimate exceeds the machine's physical memory: a grid
+/// that cannot fit is refused before anything large is allocated. build_model calls it.
+void check_memory(const Scenario& sc);
 /// FFT threads for solver.threads = 0: one below n = 512, all cores from there up.
 int default_threads(const Grid& grid);
 /// The surface a scenario describes (generated, or loaded and checked against the grid).

@@ -1,0 +1,81 @@
+// Small helpers shared by the benchmarks in tools/bench (header only: the CMake glob builds one
+// executable per .cpp file, so this header is not a benchmark of its own).
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace bench {
+
+using Clock = std::chrono::steady_clock;
+
+inline double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+inline double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+/// Median over `repeats` of the mean time of one call in a batch long enough (>= ~20 ms) that
+/// clock resolution and loop overhead do not matter; one warm-up call first.
+template <class F>
+double time_per_call(F&& f, int repeats) {
+  const auto t0 = Clock::now();
+  f();
+  const double once = std::max(seconds_since(t0), 1e-7);
+  const int batch = std::max(1, int(0.02 / once));
+  std::vector<double> t;
+  for (int r = 0; r < std::max(1, repeats); ++r) {
+    const auto t1 = Clock::now();
+    for (int b = 0; b < batch; ++b) f();
+    t.push_back(seconds_since(t1) / batch);
+  }
+  return median(t);
+}
+
+/// Same with process CPU time (std::clock): on a loaded machine wall time includes the time
+/// other processes ran; CPU time counts only ours (all threads, so use it single-threaded).
+template <class F>
+double cpu_per_call(F&& f, int repeats) {
+  const std::clock_t t0 = std::clock();
+  f();
+  const double once = std::max(double(std::clock() - t0) / CLOCKS_PER_SEC, 1e-6);
+  const int batch = std::max(1, int(0.05 / once));
+  std::vector<double> t;
+  for (int r = 0; r < std::max(1, repeats); ++r) {
+    const std::clock_t t1 = std::clock();
+    for (int b = 0; b < batch; ++b) f();
+    t.push_back(double(std::clock() - t1) / CLOCKS_PER_SEC / batch);
+  }
+  return median(t);
+}
+
+/// The 1-minute load average (from /proc/loadavg), printed with every table: the machine is
+/// shared, and absolute times mean little without it.
+inline double load_average() {
+  std::ifstream in("/proc/loadavg");
+  double l = -1.0;
+  in >> l;
+  return l;
+}
+
+/// Integer option value in [lo, hi], or exit(2) with the usage.
+inline int int_arg(int argc, char** argv, int& i, int lo, int hi, void (*usage)(int)) {
+  if (i + 1 >= argc) usage(2);
+  char* end = nullptr;
+  const long v = std::strtol(argv[++i], &end, 10);
+  if (*end != '\0' || v < lo || v > hi) usage(2);
+  return int(v);
+}
+
+}  // namespace bench
