@@ -1,6 +1,7 @@
 // The command line contract (DESIGN §4): exit codes, one-line errors, outputs and columns.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -21,7 +22,8 @@ struct Result {
 
 // Runs the fretbem binary with arguments; captures stdout and stderr.
 Result fretbem(const std::string& args) {
-  const fs::path tmp = fs::temp_directory_path() / "fretbem_cli_test";
+  // One folder per process: ctest runs the cases of this file in parallel processes.
+  const fs::path tmp = fs::temp_directory_path() / ("fretbem_cli_test_" + std::to_string(getpid()));
   fs::create_directories(tmp);
   const std::string cmd = std::string(FRETBEM_BINARY) + " " + args + " > " +
                           (tmp / "out").string() + " 2> " + (tmp / "err").string();
@@ -90,7 +92,7 @@ TEST(Cli, CheckValidatesWithoutRunning) {
 }
 
 TEST(Cli, RunWritesTheContractColumns) {
-  const fs::path dir = fs::temp_directory_path() / "fretbem_cli_hertz";
+  const fs::path dir = fs::temp_directory_path() / ("fretbem_cli_run_" + std::to_string(getpid()));
   fs::remove_all(dir);
   const Result r =
       fretbem("run " + scenario("cattaneo.ini") + " --quiet --set grid.n=32 --out " + dir.string());
@@ -112,7 +114,8 @@ TEST(Cli, RunWritesTheContractColumns) {
 }
 
 TEST(Cli, SurfaceWritesAHeightMapAndStatistics) {
-  const fs::path out = fs::temp_directory_path() / "fretbem_cli_surface.npy";
+  const fs::path out =
+      fs::temp_directory_path() / ("fretbem_cli_surface_" + std::to_string(getpid()) + ".npy");
   const Result r = fretbem("surface --set surface.hurst=0.6 --set grid.n=64 --out " + out.string());
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(fs::exists(out));
