@@ -17,6 +17,12 @@ NormalResult NormalSolver::solve_force(const Field& z, double force, Field& p) {
 }
 
 NormalResult NormalSolver::solve_indentation(const Field& z, double delta, Field& p) {
+  // A periodic load on a half-space has an unbounded mean displacement: the periodic kernel
+  // drops the mean mode, so an approach does not fix the force there (measured: the force
+  // returned by solve_force is not recovered). Force control only.
+  if (hs_.grid().periodic)
+    throw InputError("indentation control is not defined on periodic grids (grid.periodic = "
+                     "true): use load.normal_force");
   return solve(z, false, delta, p);
 }
 
