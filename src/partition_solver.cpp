@@ -73,11 +73,13 @@ int repartition(const TangentialIncrement& inc, const VecField& u, Field& stick,
 }  // namespace
 
 PartitionSolver::PartitionSolver(TangentialOperator& op, TangentialOptions opt)
-    : op_(op), opt_(opt), cache_(std::make_shared<ScaleCache>()) {}
+    : op_(op), opt_(opt), cache_(std::make_unique<ScaleCache>()) {}
+
+PartitionSolver::~PartitionSolver() = default;
 
 TangentialResult PartitionSolver::solve(const TangentialIncrement& inc, VecField& tau,
                                         VecField& u) {
-  Workspace w(op_, inc, opt_, *std::static_pointer_cast<ScaleCache>(cache_));
+  Workspace w(op_, inc, opt_, *cache_);
   w.start(tau, u);
   Field stick = free_mask(*inc.bound, magnitude(tau));
   VecField s;

@@ -37,12 +37,14 @@ double coulomb_residual(const Grid& grid, const TangentialIncrement& inc, const 
 }
 
 ProjectedCgSolver::ProjectedCgSolver(TangentialOperator& op, TangentialOptions opt)
-    : op_(op), opt_(opt), cache_(std::make_shared<ScaleCache>()) {}
+    : op_(op), opt_(opt), cache_(std::make_unique<ScaleCache>()) {}
+
+ProjectedCgSolver::~ProjectedCgSolver() = default;
 
 TangentialResult ProjectedCgSolver::solve(const TangentialIncrement& inc, VecField& tau,
                                           VecField& u) {
   const int nc = op_.components();
-  Workspace w(op_, inc, opt_, *std::static_pointer_cast<ScaleCache>(cache_));
+  Workspace w(op_, inc, opt_, *cache_);
   w.start(tau, u);
   bool restart = true, verified = false;
   double g_old = 1.0;

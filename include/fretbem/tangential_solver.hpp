@@ -14,6 +14,10 @@
 
 namespace fretbem {
 
+namespace tangential_detail {
+class ScaleCache;
+}
+
 enum class TangentialControl { displacement, force };
 
 struct TangentialOptions {
@@ -58,13 +62,15 @@ class TangentialSolver {
 class ProjectedCgSolver final : public TangentialSolver {
  public:
   ProjectedCgSolver(TangentialOperator& op, TangentialOptions opt);
+  ~ProjectedCgSolver() override;
   TangentialResult solve(const TangentialIncrement& inc, VecField& tau, VecField& u) override;
 
  private:
   TangentialOperator& op_;
   TangentialOptions opt_;
   VecField s_, d_, q_;
-  std::shared_ptr<void> cache_;  // displacement scale, reused while the bound is unchanged
+  // Displacement scale |C g|, reused while the bound is unchanged.
+  std::unique_ptr<tangential_detail::ScaleCache> cache_;
 };
 
 /// The paper's fixed-point partition iteration (Methods): fix the stick/slip partition, set
@@ -73,12 +79,13 @@ class ProjectedCgSolver final : public TangentialSolver {
 class PartitionSolver final : public TangentialSolver {
  public:
   PartitionSolver(TangentialOperator& op, TangentialOptions opt);
+  ~PartitionSolver() override;
   TangentialResult solve(const TangentialIncrement& inc, VecField& tau, VecField& u) override;
 
  private:
   TangentialOperator& op_;
   TangentialOptions opt_;
-  std::shared_ptr<void> cache_;
+  std::unique_ptr<tangential_detail::ScaleCache> cache_;
 };
 
 /// Coulomb-law residual of a state (see TangentialResult::residual) and the slip increment s.
