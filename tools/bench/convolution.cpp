@@ -4,8 +4,8 @@
 // FFTW_MEASURE plans, median time of a full Hertz normal solve (force control, tolerance 1e-10,
 // contact diameter half the domain), its iterations and convolutions, the time per CG iteration
 // over the bare convolution time of the same plan, and the number of nodes at which
-// normal_add_sparse costs as much as one convolution (the solvers switch at HalfSpace::sparse_limit() = max(24, n/2)).
-// Prints a Markdown table.
+// normal_add_sparse costs as much as one convolution (the solvers switch at
+// HalfSpace::sparse_limit() = max(24, n/2)). Prints a Markdown table.
 //
 // Usage: bench_convolution [--max-n N] [--repeats R] [--threads T] [--no-measure]
 #include <algorithm>
