@@ -16,6 +16,12 @@ StiffnessResult StiffnessSolver::solve(const StateField& state) {
   StiffnessResult res;
   const double nstick = stick.sum();
   if (nstick == 0.0) return res;  // full sliding: no stiffness
+  // k_x depends on the stick set alone: an unchanged set (a skipped step, a steady stretch)
+  // needs no new solve.
+  if (last_stick_.size() == stick.size() && (last_stick_ == stick).all()) {
+    res.kx = last_kx_;
+    return res;
+  }
   if (psi_.size() != std::size_t(nc)) psi_ = op_.zeros();
   for (auto& p : psi_) p *= stick;
   op_.apply(psi_, u_);
@@ -50,6 +56,8 @@ StiffnessResult StiffnessSolver::solve(const StateField& state) {
     throw SolverError(msg.str());
   }
   res.kx = psi_[0].sum() * op_.grid().cell_area();
+  last_stick_ = stick;
+  last_kx_ = res.kx;
   return res;
 }
 

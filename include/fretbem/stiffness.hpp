@@ -26,6 +26,8 @@ class StiffnessSolver {
   double tol_;
   int max_it_;
   VecField psi_, u_, r_, d_, q_;
+  Field last_stick_;  ///< stick set of the last solve, and its k_x
+  double last_kx_ = 0.0;
 };
 
 }  // namespace fretbem
