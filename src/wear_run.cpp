@@ -66,6 +66,11 @@ WearReport run_wear(Model& model, bool quiet) {
   cycles.on_finish(stepper.state(), model);
   h5.on_finish(stepper.state(), model);
   h5.writer().write_field("/wear/final_worn_depth", rep.worn);
+  if (!quiet && rep.newton_iterations > 0)
+    std::printf(
+        "fretbem: implicit wear steps: %ld Newton iterations (%ld convergence failures), %ld "
+        "Krylov iterations, %ld inner CG iterations\n",
+        rep.newton_iterations, rep.newton_failures, rep.krylov_iterations, rep.inner_iterations);
   if (!quiet)
     std::printf(
         "fretbem: wear to N = %.6g with %.6g simulated cycles (%d wear-map evaluations, "

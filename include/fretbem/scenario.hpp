@@ -20,6 +20,10 @@ enum class Control { force, displacement };
 enum class TangentialAlgorithm { projected, partition };
 enum class WearLaw { none, archard, energy };
 enum class WearIntegrator { arkode, cycle, erk, dirk };  // arkode: the measured best of erk/dirk
+/// Newton iteration of the implicit (dirk) wear integrator: modified Newton with the frozen-slip
+/// Newton matrix (WearPreconditioner), or Jacobian-free Newton–Krylov (SPGMR, finite-difference
+/// Jacobian-vector products of the wear map, the frozen-slip matrix as preconditioner).
+enum class WearNewton { frozen, krylov };
 
 struct SurfaceSpec {
   SurfaceType type = SurfaceType::sphere;
@@ -75,6 +79,7 @@ struct WearSpec {
   double cycles = 0.0;       ///< cycle count N to integrate to
   WearIntegrator integrator = WearIntegrator::arkode;
   double rtol = 1e-3, atol = 1e-9;
+  WearNewton newton = WearNewton::frozen;
 };
 
 struct Scenario {

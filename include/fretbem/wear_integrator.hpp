@@ -20,8 +20,11 @@
 //    constant pressure that loop is closed from the first turning point on (Masing /
 //    Mindlin–Deresiewicz), so w is a function of z alone — not of a traction state carried
 //    from a different surface, which is what eroded the stick zone in the prototype.
-//  - dirk: the same ODE by ARKODE ARKStep, implicit SDIRK, Newton–Krylov (SPGMR) with
-//    Jacobian-vector products by finite differences of the per-cycle wear map.
+//  - dirk: the same ODE by ARKODE ARKStep, implicit SDIRK order 2, no step cap. Newton with the
+//    frozen-slip Newton matrix (WearPreconditioner: the pressure response to wear with the slip
+//    of the last cycle held fixed, solved exactly by CG), or Jacobian-free Newton–Krylov
+//    (SPGMR, finite-difference Jacobian-vector products of the per-cycle wear map,
+//    preconditioned by the same matrix): wear.newton.
 #pragma once
 
 #include <cstdint>
@@ -54,7 +57,10 @@ struct WearReport {
   double simulated_cycles = 0.0;   ///< simulated cycles (a steady cycle counts as 1.25)
   int rhs_evaluations = 0;         ///< wear-map evaluations (cycles in cycle mode)
   long steps = 0, rejected = 0;    ///< integrator steps (arkode/dirk)
-  double N = 0.0;                  ///< cycle count reached
+  /// Implicit integrator: Newton iterations and their convergence failures, Krylov iterations
+  /// (wear.newton = krylov), inner CG iterations (= convolutions) of the frozen-slip solves.
+  long newton_iterations = 0, newton_failures = 0, krylov_iterations = 0, inner_iterations = 0;
+  double N = 0.0;  ///< cycle count reached
 };
 
 /// Destination of the wear outputs: DIR/wear.csv, snapshots in result.h5, progress.
