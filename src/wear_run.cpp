@@ -74,10 +74,13 @@ WearReport run_wear(Model& model, bool quiet) {
   if (!quiet)
     std::printf(
         "fretbem: wear to N = %.6g with %.6g simulated cycles (%d wear-map evaluations, "
-        "%ld integrator steps, %ld rejected)\n  wear:        %s\n  time series: %s\n"
+        "%ld %s integrator steps, %ld rejected)\n  wear:        %s\n  time series: %s\n"
         "  fields:      %s\n",
-        rep.N, rep.simulated_cycles, rep.rhs_evaluations, rep.steps, rep.rejected,
-        (dir / "wear.csv").string().c_str(), csv.path().string().c_str(),
+        rep.N, rep.simulated_cycles, rep.rhs_evaluations, rep.steps,
+        model.scenario.wear.integrator == WearIntegrator::cycle ? "cycle"
+        : rep.implicit                                          ? "implicit (SDIRK)"
+                                                                : "explicit (ERK)",
+        rep.rejected, (dir / "wear.csv").string().c_str(), csv.path().string().c_str(),
         h5.path().string().c_str());
   return rep;
 }

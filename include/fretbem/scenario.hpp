@@ -19,7 +19,8 @@ enum class PathType { none, ramp, sine, table };
 enum class Control { force, displacement };
 enum class TangentialAlgorithm { projected, partition };
 enum class WearLaw { none, archard, energy };
-enum class WearIntegrator { arkode, cycle, erk, dirk };  // arkode: the measured best of erk/dirk
+/// arkode: erk or dirk, whichever the run's length against the explicit stability cap favours.
+enum class WearIntegrator { arkode, cycle, erk, dirk };
 /// Newton iteration of the implicit (dirk) wear integrator: modified Newton with the frozen-slip
 /// Newton matrix (WearPreconditioner), or Jacobian-free Newton–Krylov (SPGMR, finite-difference
 /// Jacobian-vector products of the wear map, the frozen-slip matrix as preconditioner).

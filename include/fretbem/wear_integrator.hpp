@@ -12,7 +12,9 @@
 // Modes (wear.integrator):
 //  - cycle: the reference. Cycle after cycle with tractions carried (the physical history);
 //    each cycle's wear is applied before the next.
-//  - arkode / erk: dW/dN = w(z0 - W) for the worn depth W, explicit adaptive Runge–Kutta
+//  - arkode (default): erk while wear.cycles is at most 100 explicit stability caps, dirk past
+//    that (measured crossover, docs/wear.md).
+//  - erk: dW/dN = w(z0 - W) for the worn depth W, explicit adaptive Runge–Kutta
 //    (SUNDIALS ARKODE ERKStep), error-controlled, with the step capped by the explicit stability
 //    bound dN k s_max K_max <= 1 (issue 6), K_max = 1.7 E*/h. The right-hand side is the
 //    steady cycle of the surface: from a fresh (traction-free) state, monotone loading to the
@@ -57,6 +59,7 @@ struct WearReport {
   double simulated_cycles = 0.0;   ///< simulated cycles (a steady cycle counts as 1.25)
   int rhs_evaluations = 0;         ///< wear-map evaluations (cycles in cycle mode)
   long steps = 0, rejected = 0;    ///< integrator steps (arkode/dirk)
+  bool implicit = false;           ///< the implicit method ran (dirk, or arkode's choice)
   /// Implicit integrator: Newton iterations and their convergence failures, Krylov iterations
   /// (wear.newton = krylov), inner CG iterations (= convolutions) of the frozen-slip solves.
   long newton_iterations = 0, newton_failures = 0, krylov_iterations = 0, inner_iterations = 0;
