@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <memory>
+#include <utility>
 
 #include "fretbem/errors.hpp"
 
@@ -34,33 +36,58 @@ std::vector<double> snapshot_cycles(double N_end) {
 
 namespace {
 
-void keep(WearReport& rep, WearCycle c, WearLog* log, double simulated) {
-  if (log) log->cycle(c, simulated);
+void keep(WearReport& rep, WearCycle c, WearLog* log) {
+  if (log) log->cycle(c);
   c.rate = Field();
   rep.history.push_back(std::move(c));
 }
 
 // Reference: cycle after cycle, tractions carried, each cycle's wear applied before the next.
-WearReport integrate_cycles(Model& model, WearCycles& cyc, WearLog* log) {
+// A checkpoint after every cycle whose wear was applied (the last one only observes).
+WearReport integrate_cycles(Model& model, WearCycles& cyc, WearLog* log,
+                            const WearCheckpoint* resume, long max_steps) {
   WearReport rep;
   const double N_end = model.scenario.wear.cycles;
   const auto snaps = snapshot_cycles(N_end);
   std::size_t next_snap = 0;
-  cyc.start();
-  for (double N = 0.0; N <= N_end; N += 1.0) {
+  double N0 = 0.0;
+  long taken = 0;
+  if (resume) {
+    N0 = resume->N, next_snap = std::size_t(resume->next_snapshot);
+    cyc.resume(resume->counters);
+  } else {
+    cyc.start();
+  }
+  for (double N = N0; N <= N_end; N += 1.0) {
     WearCycle c = cyc.carried(N);
     if (log && next_snap < snaps.size() && snaps[next_snap] <= N) {
       log->snapshot(N, model.surface0 - model.surface, cyc.pressure());
       ++next_snap;
     }
     if (N < N_end) cyc.apply(c.rate);  // the last cycle observes the final surface
-    keep(rep, std::move(c), log, cyc.simulated());
+    c.accepted = true;
+    keep(rep, std::move(c), log);
+    if (N >= N_end) break;
+    if (log) {
+      WearCheckpoint at;
+      at.N = N + 1.0;
+      at.worn = model.surface0 - model.surface;
+      at.counters = cyc.counters();
+      at.steps = long(N) + 1;
+      at.next_snapshot = long(next_snap);
+      log->step_done(at);
+    }
+    if (max_steps >= 0 && ++taken >= max_steps) {
+      rep.stopped = true;
+      rep.N = N + 1.0;
+      break;
+    }
   }
   rep.worn = model.surface0 - model.surface;
-  rep.N = N_end;
+  if (!rep.stopped) rep.N = N_end;
   rep.simulated_cycles = cyc.simulated();
   rep.rhs_evaluations = cyc.evaluations();
-  rep.steps = long(N_end);
+  rep.steps = long(rep.N);
   return rep;
 }
 
@@ -83,6 +110,17 @@ struct OdeData {
   std::exception_ptr error;
 };
 
+// FNV-1a over the bytes of W: identifies the evaluations made on an accepted state without
+// keeping a copy of W per evaluation (a collision needs two different worn-depth fields
+// with the same 64-bit hash).
+std::uint64_t fingerprint(const Eigen::Ref<const Field>& W) {
+  std::uint64_t h = 1469598103934665603ull;
+  const auto* b = reinterpret_cast<const unsigned char*>(W.data());
+  for (std::size_t i = 0; i < std::size_t(W.size()) * sizeof(double); ++i)
+    h = (h ^ b[i]) * 1099511628211ull;
+  return h;
+}
+
 // dW/dN = w(z0 - W): one steady cycle on the current surface per evaluation. Exceptions
 // cannot cross the C library: kept and rethrown after ARKODE returns.
 int wear_rhs(realtype N, N_Vector y, N_Vector ydot, void* user) {
@@ -93,7 +131,9 @@ int wear_rhs(realtype N, N_Vector y, N_Vector ydot, void* user) {
     WearCycle c = d.cyc.steady(N, W);
     Eigen::Map<Field>(N_VGetArrayPointer(ydot), g.nx, g.ny) = c.rate;
     d.step_max_slip = std::max(d.step_max_slip, c.max_slip);
-    keep(d.rep, std::move(c), d.log, d.cyc.simulated());
+    c.worn_hash = fingerprint(W);
+    // Logged once the step is done and its accepted state known (flush_step).
+    keep(d.rep, std::move(c), nullptr);
     return 0;
   } catch (...) {
     d.error = std::current_exception();
@@ -115,8 +155,16 @@ struct Integrator {
       ERKStepFree(&mem);
     if (ls) SUNLinSolFree(ls);
   }
-  // Restart at (t, y) with a first step h: options are kept, the step-size controller's
-  // history is not.
+  int stop(double t) { return implicit ? ARKStepSetStopTime(mem, t) : ERKStepSetStopTime(mem, t); }
+  int max_step(double h) {
+    return implicit ? ARKStepSetMaxStep(mem, h) : ERKStepSetMaxStep(mem, h);
+  }
+  int evolve(double tout, N_Vector y, double* t) {
+    return implicit ? ARKStepEvolve(mem, tout, y, t, ARK_ONE_STEP)
+                    : ERKStepEvolve(mem, tout, y, t, ARK_ONE_STEP);
+  }
+  // Restart at (t, y) with a first step h (resume): options are kept, the step-size
+  // controller's history is not.
   int reset(double t, N_Vector y, double h) {
     const int f = implicit ? ARKStepReset(mem, t, y) : ERKStepReset(mem, t, y);
     if (f < 0) return f;
@@ -126,14 +174,6 @@ struct Integrator {
     double h = 0.0;
     implicit ? ARKStepGetCurrentStep(mem, &h) : ERKStepGetCurrentStep(mem, &h);
     return h;
-  }
-  int stop(double t) { return implicit ? ARKStepSetStopTime(mem, t) : ERKStepSetStopTime(mem, t); }
-  int max_step(double h) {
-    return implicit ? ARKStepSetMaxStep(mem, h) : ERKStepSetMaxStep(mem, h);
-  }
-  int evolve(double tout, N_Vector y, double* t) {
-    return implicit ? ARKStepEvolve(mem, tout, y, t, ARK_ONE_STEP)
-                    : ERKStepEvolve(mem, tout, y, t, ARK_ONE_STEP);
   }
   void stats(long& steps, long& fails) {
     if (implicit)
@@ -183,7 +223,26 @@ void create(Integrator& it, N_Vector y, SUNContext ctx, OdeData& d, double h_cap
   check(ERKStepSetInitStep(it.mem, std::min(h_cap, std::max(1.0, 0.01 * w.cycles))), "first step");
 }
 
-WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, bool implicit) {
+// Logs the rows of one integrator step (evaluations from rep.history[first] on) with their
+// accepted flag: an evaluation is accepted when it ran on the state before or after the step
+// (W and N equal) and that state has no accepted row yet, so N increases over accepted rows.
+// `last` (N, fingerprint) is the state with the latest accepted row; `final_state`: the state
+// after the step is the final one, whose accepted row is the final observation instead.
+void flush_step(WearReport& rep, std::size_t first, WearLog* log, double t0, std::uint64_t h0,
+                double t1, std::uint64_t h1, bool final_state,
+                std::pair<double, std::uint64_t>& last) {
+  for (std::size_t k = first; k < rep.history.size(); ++k) {
+    WearCycle& c = rep.history[k];
+    const std::pair<double, std::uint64_t> key{c.N, c.worn_hash};
+    const bool before = key == std::pair{t0, h0}, after = key == std::pair{t1, h1};
+    c.accepted = (before || (after && !final_state)) && key != last;
+    if (c.accepted) last = key;
+    if (log) log->cycle(c);
+  }
+}
+
+WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, bool implicit,
+                         const WearCheckpoint* resume, long max_steps) {
   WearReport rep;
   const Grid& g = model.scenario.grid;
   const double N_end = model.scenario.wear.cycles;
@@ -191,50 +250,103 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, bool impli
   N_Vector y = N_VNew_Serial(sunindextype(g.nx) * g.ny, sun.ctx);
   if (!y) throw SolverError("SUNDIALS: no vector");
   std::unique_ptr<_generic_N_Vector, void (*)(N_Vector)> y_owner(y, N_VDestroy);
+  auto Wy = [&] { return Eigen::Map<Field>(N_VGetArrayPointer(y), g.nx, g.ny); };
   N_VConst(0.0, y);
   OdeData d{model, cyc, log, rep, 0.0, nullptr};
-  cyc.start();
-  // A first steady cycle on the unworn surface: the N = 0 row, snapshot and stability cap.
-  WearCycle c0 = cyc.steady(0.0, Field::Zero(g.nx, g.ny));
-  if (log) log->snapshot(0.0, Field::Zero(g.nx, g.ny), cyc.pressure());
-  const double cap = explicit_step_cap(model, c0.max_slip);
-  keep(rep, std::move(c0), log, cyc.simulated());
+  double t = 0.0, cap = INFINITY;
+  std::size_t first_snap = 1;
+  long steps0 = 0, rejected0 = 0;
+  if (resume) {
+    Wy() = resume->worn;
+    t = resume->N, cap = resume->h_max;
+    first_snap = std::size_t(resume->next_snapshot);
+    steps0 = resume->steps, rejected0 = resume->rejected;
+    cyc.resume(resume->counters);
+  } else {
+    cyc.start();
+    // A first steady cycle on the unworn surface: the N = 0 row, snapshot and stability cap.
+    WearCycle c0 = cyc.steady(0.0, Field::Zero(g.nx, g.ny));
+    c0.accepted = true;
+    c0.worn_hash = fingerprint(Wy());
+    if (log) log->snapshot(0.0, Field::Zero(g.nx, g.ny), cyc.pressure());
+    cap = explicit_step_cap(model, c0.max_slip);
+    keep(rep, std::move(c0), log);
+  }
+  std::pair<double, std::uint64_t> last{t, fingerprint(Wy())};  // its accepted row is out
   Integrator it;
   it.implicit = implicit;
   create(it, y, sun.ctx, d, std::min(cap, N_end));
-  double t = 0.0;
+  // A resumed run restarts a fresh integrator at (N, W) with the step it was about to try.
+  // The explicit integrator restarts so after every step anyway (below): resuming repeats the
+  // uninterrupted run. The implicit one loses its step-size and Newton history: close to,
+  // not bit-identical with, the uninterrupted run (docs/wear.md).
+  if (resume) check(it.reset(t, y, std::min(resume->h_next, N_end - t)), "restart");
   const auto snaps = snapshot_cycles(N_end);
-  for (std::size_t i = 1; i < snaps.size(); ++i) {
+  long taken = 0;
+  for (std::size_t i = first_snap; i < snaps.size() && !rep.stopped; ++i) {
     check(it.stop(snaps[i]), "stop time");
     while (t < snaps[i]) {
       d.step_max_slip = 0.0;
+      const double t0 = t;
+      const std::uint64_t h0 = fingerprint(Wy());
+      const std::size_t first = rep.history.size();
       const int flag = it.evolve(snaps[i], y, &t);
       if (d.error) std::rethrow_exception(d.error);
       check(flag, "step");
-      if (implicit) continue;
-      const double step_cap = explicit_step_cap(model, d.step_max_slip);
-      check(it.max_step(step_cap), "max step");
-      // SUNDIALS 6.4 ERKStep treats a table with c_s = 1 as first-same-as-last and reuses
-      // the last stage's f(t + h, y + h k1) as the next step's f(t_{n+1}, y_{n+1}): for
-      // Heun–Euler (b = (1/2, 1/2) != a_2 = (1, 0)) one evaluation per step instead of two,
-      // and not the method (y' = y, h = 0.1, 10 steps: 2.70838 instead of Heun's 2.71408;
-      // measured with the installed 6.4.1). A restart at the accepted (t, y) makes ARKODE
-      // evaluate f there, the correct first stage. The explicit step obeys the new cap from
-      // its first attempt on.
-      check(it.reset(t, y, std::min(it.next_step(), step_cap)), "restart");
-      check(it.stop(snaps[i]), "stop time");
+      if (!implicit) {
+        cap = explicit_step_cap(model, d.step_max_slip);
+        check(it.max_step(cap), "max step");
+      }
+      const bool final_state = t >= N_end;
+      flush_step(rep, first, log, t0, h0, t, fingerprint(Wy()), final_state, last);
+      if (final_state) break;
+      const bool snap = t >= snaps[i];
+      if (log && snap) log->snapshot(t, Wy(), cyc.pressure_on(Wy()));
+      long steps = 0, fails = 0;
+      it.stats(steps, fails);
+      // The explicit step obeys the new cap from its first attempt on.
+      const double h_next = implicit ? it.next_step() : std::min(it.next_step(), cap);
+      if (!implicit) {
+        // SUNDIALS 6.4 ERKStep treats a table with c_s = 1 as first-same-as-last and reuses
+        // the last stage's f(t + h, y + h k1) as the next step's f(t_{n+1}, y_{n+1}): for
+        // Heun–Euler (b = (1/2, 1/2) != a_2 = (1, 0)) one evaluation per step instead of two,
+        // and not the method (y' = y, h = 0.1, 10 steps: 2.70838 instead of Heun's 2.71408;
+        // measured with the installed 6.4.1). A restart at the accepted (t, y) makes ARKODE
+        // evaluate f there — the correct first stage and the accepted row of the step — and
+        // is exactly what a resumed run does, so resuming is the uninterrupted run.
+        check(it.reset(t, y, h_next), "restart");
+        check(it.stop(snaps[i]), "stop time");
+      }
+      if (log) {
+        WearCheckpoint at;
+        at.N = t;
+        at.worn = Wy();
+        at.h_next = h_next;
+        at.h_max = cap;
+        at.counters = cyc.counters();
+        at.steps = steps0 + steps, at.rejected = rejected0 + fails;
+        at.next_snapshot = long(snap ? i + 1 : i);
+        log->step_done(at);
+      }
+      if (max_steps >= 0 && ++taken >= max_steps) {
+        rep.stopped = true;
+        break;
+      }
     }
-    const Field W = Eigen::Map<const Field>(N_VGetArrayPointer(y), g.nx, g.ny);
-    if (log && i + 1 < snaps.size()) log->snapshot(t, W, cyc.pressure_on(W));
   }
-  // The final surface: one more steady cycle to observe it (its wear is not applied).
-  rep.worn = Eigen::Map<const Field>(N_VGetArrayPointer(y), g.nx, g.ny);
-  WearCycle c = cyc.steady(N_end, rep.worn);
-  if (log) log->snapshot(N_end, rep.worn, cyc.pressure());
-  keep(rep, std::move(c), log, cyc.simulated());
-  model.surface = model.surface0 - rep.worn;
   it.stats(rep.steps, rep.rejected);
-  rep.N = N_end;
+  rep.steps += steps0, rep.rejected += rejected0;
+  rep.worn = Wy();
+  rep.N = t;
+  if (!rep.stopped) {
+    // The final surface: one more steady cycle to observe it (its wear is not applied).
+    WearCycle c = cyc.steady(N_end, rep.worn);
+    c.accepted = true;
+    if (log) log->snapshot(N_end, rep.worn, cyc.pressure());
+    keep(rep, std::move(c), log);
+    rep.N = N_end;
+  }
+  model.surface = model.surface0 - rep.worn;
   rep.simulated_cycles = cyc.simulated();
   rep.rhs_evaluations = cyc.evaluations();
   return rep;
@@ -242,16 +354,17 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, bool impli
 
 }  // namespace
 
-WearReport integrate_wear(Model& model, WearCycles& cycles, WearLog* log) {
+WearReport integrate_wear(Model& model, WearCycles& cycles, WearLog* log,
+                          const WearCheckpoint* resume, long max_steps) {
   if (!model.wear) throw InputError("wear.law: none (no wear to integrate)");
   switch (model.scenario.wear.integrator) {
     case WearIntegrator::cycle:
-      return integrate_cycles(model, cycles, log);
+      return integrate_cycles(model, cycles, log, resume, max_steps);
     case WearIntegrator::arkode:  // the measured better of the two (docs/wear.md)
     case WearIntegrator::erk:
-      return integrate_ode(model, cycles, log, false);
+      return integrate_ode(model, cycles, log, false, resume, max_steps);
     case WearIntegrator::dirk:
-      return integrate_ode(model, cycles, log, true);
+      return integrate_ode(model, cycles, log, true, resume, max_steps);
   }
   throw InputError("wear.integrator: unknown");
 }

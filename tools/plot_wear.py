@@ -1,6 +1,8 @@
 #!/usr/bin/python3
 """Wear plots of a fretbem wear run: centre-line profile and pressure sections at several N,
-the final worn-depth map, and wear volume against N (from DIR/result.h5 and DIR/wear.csv).
+the final worn-depth map, and wear volume against N (from DIR/result.h5 and DIR/cycles.csv;
+only the rows with accepted = 1, the integrator's solution, not its stage or trial
+evaluations).
 
 usage: tools/plot_wear.py DIR [--out FILE.png]
 """
@@ -38,7 +40,7 @@ def main():
         text = f["scenario"][()]
         text = text.decode() if isinstance(text, bytes) else text
         z0 = f["surface/initial"][()]
-        snaps = sorted(f["wear"].keys() - {"final_worn_depth"})
+        snaps = sorted(k for k in f["wear"].keys() if k.startswith("snapshot_"))
         N = [float(f["wear"][s].attrs["time"]) for s in snaps]
         worn = [f["wear"][s]["worn_depth"][()] for s in snaps]
         pres = [f["wear"][s]["pressure"][()] for s in snaps]
@@ -47,7 +49,9 @@ def main():
     h = length / nx
     x = (np.arange(nx) + 0.5 - 0.5 * nx) * h
     j = ny // 2
-    wear = np.genfromtxt(os.path.join(a.dir, "wear.csv"), delimiter=",", names=True)
+    wear = np.genfromtxt(os.path.join(a.dir, "cycles.csv"), delimiter=",", names=True)
+    wear = np.atleast_1d(wear)
+    wear = wear[wear["accepted"] == 1]
 
     fig, ax = plt.subplots(2, 2, figsize=(11, 8))
     pick = np.unique(np.linspace(0, len(N) - 1, min(len(N), 6)).round().astype(int))
@@ -65,7 +69,7 @@ def main():
     im = ax[1, 0].imshow(worn[-1] * 1e9, origin="lower", extent=ext, cmap="magma")
     fig.colorbar(im, ax=ax[1, 0], label="worn depth (nm)")
     ax[1, 0].set(xlabel="x (µm)", ylabel="y (µm)", title=f"worn depth at N = {N[-1]:.3g}")
-    ax[1, 1].plot(wear["N"], wear["wear_volume"], ".", ms=3)
+    ax[1, 1].plot(wear["N"], wear["wear_volume"], ".-", ms=3)
     ax[1, 1].set(xlabel="cycles N", ylabel="worn volume (m³)", title="wear volume")
     if wear["N"].max() > 100:
         ax[1, 1].set_xscale("symlog", linthresh=1)
