@@ -80,6 +80,7 @@ const std::vector<std::string> kKeys = {
     "wear.integrator",
     "wear.rtol",
     "wear.atol",
+    "wear.indenter_share",
 };
 
 const std::vector<std::string> kFieldNames = {"pressure", "traction_x", "traction_y",  "state",
@@ -540,6 +541,8 @@ void read_wear(const Reader& r, WearSpec& w) {
         r.choice("wear.integrator", {"arkode", "cycle", "erk", "dirk"}));
   if (r.has("wear.rtol")) w.rtol = r.positive("wear.rtol");
   if (r.has("wear.atol")) w.atol = r.positive("wear.atol");
+  if (r.has("wear.indenter_share"))
+    w.indenter_share = r.real_in("wear.indenter_share", 0.0, false, 1.0, false);
   if (w.law == WearLaw::none) return;
   r.require("wear.coefficient", " when wear.law is not none");
   r.require("wear.cycles", " when wear.law is not none");
@@ -669,6 +672,7 @@ void write_wear(IniWriter& w, const WearSpec& s) {
   w.put("integrator", std::string(integrators[static_cast<int>(s.integrator)]));
   w.put("rtol", s.rtol);
   w.put("atol", s.atol);
+  w.put("indenter_share", s.indenter_share);
 }
 
 std::string resolved_text(const Scenario& s) {

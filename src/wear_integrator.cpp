@@ -354,6 +354,14 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, bool impli
 
 }  // namespace
 
+Field indenter_worn(const Model& model, const Field& worn) {
+  return model.scenario.wear.indenter_share * worn;
+}
+
+Field half_space_worn(const Model& model, const Field& worn) {
+  return (1.0 - model.scenario.wear.indenter_share) * worn;
+}
+
 WearReport integrate_wear(Model& model, WearCycles& cycles, WearLog* log,
                           const WearCheckpoint* resume, long max_steps) {
   if (!model.wear) throw InputError("wear.law: none (no wear to integrate)");

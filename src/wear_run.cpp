@@ -14,12 +14,21 @@ namespace fretbem {
 namespace {
 
 // DIR/cycles.csv of a wear run: one row per simulated cycle (issue 6), then the bookkeeping
-// columns.
+// columns; the per-body volumes split wear_volume by wear.indenter_share.
 const std::vector<std::string>& wear_columns() {
-  static const std::vector<std::string> c{
-      "N",          "energy_per_cycle", "wear_volume", "max_worn_depth", "contact_radius",
-      "stick_area", "peak_pressure",    "delta",       "max_slip",       "simulated_cycles",
-      "accepted"};
+  static const std::vector<std::string> c{"N",
+                                          "energy_per_cycle",
+                                          "wear_volume",
+                                          "max_worn_depth",
+                                          "contact_radius",
+                                          "stick_area",
+                                          "peak_pressure",
+                                          "delta",
+                                          "max_slip",
+                                          "simulated_cycles",
+                                          "accepted",
+                                          "wear_volume_indenter",
+                                          "wear_volume_half_space"};
   return c;
 }
 
@@ -37,13 +46,20 @@ class WearFiles final : public WearLog {
     if (resume) rows_ = resume->cycles_rows, snapshots_ = resume->snapshots;
   }
   void cycle(const WearCycle& c) override {
+    const double s = model_.scenario.wear.indenter_share;
     csv_.row({c.N, c.energy, c.wear_volume, c.max_depth, c.contact_radius, c.stick_area,
-              c.peak_pressure, c.delta, c.max_slip, c.simulated, c.accepted ? 1.0 : 0.0});
+              c.peak_pressure, c.delta, c.max_slip, c.simulated, c.accepted ? 1.0 : 0.0,
+              s * c.wear_volume, (1.0 - s) * c.wear_volume});
     ++rows_;
     progress(c.N, c.simulated);
   }
+  // The total worn depth (what the gap sees) and each body's share of it.
   void snapshot(double N, const Field& worn, const Field& p) override {
-    h5_.writer().write_step_fields(snapshots_++, N, {{"worn_depth", worn}, {"pressure", p}},
+    h5_.writer().write_step_fields(snapshots_++, N,
+                                   {{"worn_depth", worn},
+                                    {"worn_depth_indenter", indenter_worn(model_, worn)},
+                                    {"worn_depth_half_space", half_space_worn(model_, worn)},
+                                    {"pressure", p}},
                                    "/wear/snapshot_");
   }
   void step_done(const WearCheckpoint& at) override {
@@ -101,14 +117,24 @@ WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume, long max
     return rep;
   }
   h5.on_finish(stepper.state(), model);
+  // The surfaces of the two bodies: the indenter's height, and the half-space's surface
+  // height against its unworn plane (negative where worn). The contact saw their difference.
+  h5.writer().write_field("/surface/final", model.surface0 - indenter_worn(model, rep.worn));
+  h5.writer().write_field("/surface/final_half_space", -half_space_worn(model, rep.worn));
   h5.writer().write_field("/wear/final_worn_depth", rep.worn);
-  if (!quiet)
+  h5.writer().write_field("/wear/final_worn_depth_indenter", indenter_worn(model, rep.worn));
+  h5.writer().write_field("/wear/final_worn_depth_half_space", half_space_worn(model, rep.worn));
+  if (!quiet) {
+    const double V = rep.worn.sum() * model.scenario.grid.cell_area();
+    const double s = model.scenario.wear.indenter_share;
     std::printf(
         "fretbem: wear to N = %.6g with %.6g simulated cycles (%d wear-map evaluations, "
-        "%ld integrator steps, %ld rejected)\n  cycles:      %s\n  time series: %s\n"
-        "  fields:      %s\n",
-        rep.N, rep.simulated_cycles, rep.rhs_evaluations, rep.steps, rep.rejected,
-        log.path().string().c_str(), csv.path().string().c_str(), h5.path().string().c_str());
+        "%ld integrator steps, %ld rejected)\n  worn volume: %.6g m^3 (indenter %.6g, "
+        "half-space %.6g)\n  cycles:      %s\n  time series: %s\n  fields:      %s\n",
+        rep.N, rep.simulated_cycles, rep.rhs_evaluations, rep.steps, rep.rejected, V, s * V,
+        (1.0 - s) * V, log.path().string().c_str(), csv.path().string().c_str(),
+        h5.path().string().c_str());
+  }
   return rep;
 }
 

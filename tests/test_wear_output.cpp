@@ -1,6 +1,6 @@
 // Wear-run outputs through the command line (issue 6): cycles.csv (one row per simulated
-// cycle, `accepted` marking the integrator's solution), checkpoints, --stop-after and
-// --resume.
+// cycle, `accepted` marking the integrator's solution), wear of both bodies
+// (wear.indenter_share), checkpoints, --stop-after and --resume.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <signal.h>
@@ -282,4 +282,67 @@ TEST(WearResume, KilledRunResumes) {
   for (int k = 0; k <= N; ++k) EXPECT_EQ(Nc[std::size_t(k)], double(k));
   fs::remove_all(full);
   fs::remove_all(part);
+}
+
+// Both bodies wear, half each: the contact sees only the gap, i.e. the sum of the worn
+// depths, so pressure, indentation (against the unworn datums) and the whole tangential
+// history are those of the indenter-only run (identical arithmetic: round-off at most);
+// each body carries its share of the worn depth and the volumes add up.
+TEST(WearBothBodies, HalfShareSameContactHistory) {
+  const fs::path one = fresh_dir("share1"), half = fresh_dir("share05");
+  ASSERT_EQ(sh(run_args(one, "cycle", 10)), 0);
+  ASSERT_EQ(sh(run_args(half, "cycle", 10, "--set wear.indenter_share=0.5")), 0);
+  const Csv a = read_csv(one / "cycles.csv"), b = read_csv(half / "cycles.csv");
+  for (const char* col : {"energy_per_cycle", "wear_volume", "contact_radius", "stick_area",
+                          "peak_pressure", "delta"}) {
+    const auto x = a.column(col), y = b.column(col);
+    EXPECT_LE(max_diff(x, y), 1e-12 * max_abs(x)) << col;
+  }
+  const Csv ta = read_csv(one / "timeseries.csv"), tb = read_csv(half / "timeseries.csv");
+  for (const char* col : {"Fz", "delta", "Fx", "Ux", "contact_area", "stick_area", "dissipation"}) {
+    const auto x = ta.column(col), y = tb.column(col);
+    EXPECT_LE(max_diff(x, y), 1e-12 * max_abs(x)) << col;
+  }
+  const auto V = b.column("wear_volume"), Vi = b.column("wear_volume_indenter"),
+             Vh = b.column("wear_volume_half_space");
+  for (std::size_t k = 0; k < V.size(); ++k) {
+    EXPECT_NEAR(Vi[k], 0.5 * V[k], 1e-15 * V[k]);
+    EXPECT_NEAR(Vi[k] + Vh[k], V[k], 1e-15 * V[k]);
+  }
+  const fs::path h5 = half / "result.h5";
+  const auto W = h5_field(h5, "/wear/final_worn_depth"),
+             Wi = h5_field(h5, "/wear/final_worn_depth_indenter"),
+             Wh = h5_field(h5, "/wear/final_worn_depth_half_space");
+  const auto z0 = h5_field(h5, "/surface/initial"), zi = h5_field(h5, "/surface/final"),
+             zh = h5_field(h5, "/surface/final_half_space");
+  ASSERT_GT(max_abs(W), 0.0);
+  EXPECT_EQ(max_diff(W, h5_field(one / "result.h5", "/wear/final_worn_depth")), 0.0);
+  const double tol = 1e-15 * max_abs(W);
+  for (std::size_t k = 0; k < W.size(); ++k) {
+    EXPECT_NEAR(Wi[k], 0.5 * W[k], tol);
+    EXPECT_NEAR(Wh[k], 0.5 * W[k], tol);
+    EXPECT_NEAR(Wi[k] + Wh[k], W[k], tol);
+    EXPECT_NEAR(z0[k] - zi[k], Wi[k], 1e-15 * max_abs(z0));  // indenter height lost W_i
+    EXPECT_NEAR(zh[k], -Wh[k], tol);                         // half-space surface sank W_h
+  }
+  fs::remove_all(one);
+  fs::remove_all(half);
+}
+
+TEST(WearBothBodies, ShareOutsideUnitIntervalIsOneLineError) {
+  const fs::path d = fresh_dir("badshare");
+  const std::string err =
+      (d.parent_path() / ("fretbem_badshare_err_" + std::to_string(getpid()))).string();
+  const int s = std::system((kBin + " " + run_args(d, "cycle", 2, "--set wear.indenter_share=1.5") +
+                             " > /dev/null 2> " + err)
+                                .c_str());
+  EXPECT_NE(s, 0);
+  std::ifstream in(err);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string msg = ss.str();
+  EXPECT_EQ(std::count(msg.begin(), msg.end(), '\n'), 1) << msg;
+  EXPECT_NE(msg.find("wear.indenter_share"), std::string::npos) << msg;
+  fs::remove(err);
+  fs::remove_all(d);
 }

@@ -75,6 +75,9 @@ struct WearSpec {
   double cycles = 0.0;       ///< cycle count N to integrate to
   WearIntegrator integrator = WearIntegrator::arkode;
   double rtol = 1e-3, atol = 1e-9;
+  /// Share of the worn depth taken by the indenter, the rest by the half-space (issue 6:
+  /// "split between the two bodies with a ratio when both wear"); 1 = indenter only.
+  double indenter_share = 1.0;
 };
 
 struct Scenario {

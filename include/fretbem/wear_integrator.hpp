@@ -155,6 +155,11 @@ double explicit_step_cap(const Model& model, double max_slip);
 /// Geometric output sequence 0, 1, 2, 5, 10, 20, 50, ... up to and including N_end.
 std::vector<double> snapshot_cycles(double N_end);
 
+/// The worn depth of each body for a total worn depth W: the indenter takes
+/// wear.indenter_share of it, the half-space the rest (the contact sees only the sum).
+Field indenter_worn(const Model& model, const Field& worn);
+Field half_space_worn(const Model& model, const Field& worn);
+
 struct Checkpoint;
 
 /// The `fretbem run` of a scenario with a wear law: timeseries.csv (rows of every simulated
