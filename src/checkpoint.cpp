@@ -156,9 +156,33 @@ StepperMemory read_memory(hid_t f) {
   return m;
 }
 
+// The wear part (wear runs only): scalars in one vector, the worn depth as a field.
+void write_wear(hid_t f, const WearCheckpoint& w) {
+  const WearCounters& c = w.counters;
+  write_vector(f, "wear_scalars",
+               {w.N, w.h_next, w.h_max, c.simulated, double(c.evaluations), double(c.rows),
+                double(c.index), double(w.steps), double(w.rejected), double(w.next_snapshot),
+                double(w.cycles_rows), double(w.snapshots), w.implicit ? 1.0 : 0.0});
+  write_field(f, "wear_worn", w.worn);
+}
+
+std::optional<WearCheckpoint> read_wear(hid_t f) {
+  if (H5Lexists(f, "wear_scalars", H5P_DEFAULT) <= 0) return std::nullopt;
+  const auto v = read_array(f, "wear_scalars", nullptr);
+  if (v.size() != 13) throw InputError("checkpoint: bad wear state");
+  WearCheckpoint w;
+  w.N = v[0], w.h_next = v[1], w.h_max = v[2];
+  w.counters = {v[3], int(v[4]), int(v[5]), int(v[6])};
+  w.steps = long(v[7]), w.rejected = long(v[8]), w.next_snapshot = long(v[9]);
+  w.cycles_rows = long(v[10]), w.snapshots = long(v[11]), w.implicit = v[12] != 0.0;
+  w.worn = read_field(f, "wear_worn");
+  return w;
+}
+
 }  // namespace
 
-void save_checkpoint(const fs::path& dir, const Model& model, const Stepper& stepper) {
+void save_checkpoint(const fs::path& dir, const Model& model, const Stepper& stepper,
+                     const WearCheckpoint* wear) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const fs::path tmp = dir / (std::string(kFile) + ".tmp");
   {
@@ -168,6 +192,7 @@ void save_checkpoint(const fs::path& dir, const Model& model, const Stepper& ste
     write_state(f.id, stepper.state());
     write_memory(f.id, stepper.memory());
     write_field(f.id, "surface", model.surface);
+    if (wear) write_wear(f.id, *wear);
   }
   fs::rename(tmp, dir / kFile);
 }
@@ -183,6 +208,7 @@ Checkpoint load_checkpoint(const fs::path& dir) {
   c.state = read_state(f.id);
   c.memory = read_memory(f.id);
   c.surface = read_field(f.id, "surface");
+  c.wear = read_wear(f.id);
   return c;
 }
 

@@ -59,13 +59,13 @@ void truncate_csv(const std::filesystem::path& dir, const std::string& name, lon
   std::ofstream(path, std::ios::trunc) << kept;
 }
 
+}  // namespace
+
 io::CsvWriter open_csv(const std::filesystem::path& dir, const std::string& name,
                        const std::vector<std::string>& cols, long resume_rows) {
   truncate_csv(dir, name, resume_rows);
   return io::CsvWriter(dir, name, cols, resume_rows >= 0);
 }
-
-}  // namespace
 
 TimeseriesCsv::TimeseriesCsv(const std::filesystem::path& dir, long resume_rows)
     : csv_(open_csv(dir, "timeseries", StepRecord::columns(), resume_rows)) {}

@@ -81,6 +81,7 @@ const std::vector<std::string> kKeys = {
     "wear.rtol",
     "wear.atol",
     "wear.newton",
+    "wear.indenter_share",
 };
 
 const std::vector<std::string> kFieldNames = {"pressure", "traction_x", "traction_y",  "state",
@@ -543,6 +544,8 @@ void read_wear(const Reader& r, WearSpec& w) {
   if (r.has("wear.atol")) w.atol = r.positive("wear.atol");
   if (r.has("wear.newton"))
     w.newton = static_cast<WearNewton>(r.choice("wear.newton", {"frozen", "krylov"}));
+  if (r.has("wear.indenter_share"))
+    w.indenter_share = r.real_in("wear.indenter_share", 0.0, false, 1.0, false);
   if (w.law == WearLaw::none) return;
   r.require("wear.coefficient", " when wear.law is not none");
   r.require("wear.cycles", " when wear.law is not none");
@@ -673,6 +676,7 @@ void write_wear(IniWriter& w, const WearSpec& s) {
   w.put("rtol", s.rtol);
   w.put("atol", s.atol);
   w.put("newton", std::string(s.newton == WearNewton::frozen ? "frozen" : "krylov"));
+  w.put("indenter_share", s.indenter_share);
 }
 
 std::string resolved_text(const Scenario& s) {

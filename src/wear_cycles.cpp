@@ -68,8 +68,9 @@ void WearCycles::fresh(const Field& worn) {
 }
 
 WearCycle WearCycles::carried(double N) {
-  const WearCycle c = measure(N, cycle_, double(index_));
+  WearCycle c = measure(N, cycle_, double(index_));
   simulated_ += 1.0;
+  c.simulated = simulated_;
   return c;
 }
 
@@ -77,9 +78,18 @@ WearCycle WearCycles::steady(double N, const Field& worn) {
   fresh(worn);
   step(initial_, 0.0, false);
   for (const auto& ls : virgin_) step(ls, 0.0, false);
-  const WearCycle c = measure(N, steady_, double(index_) - turn_);
+  WearCycle c = measure(N, steady_, double(index_) - turn_);
   simulated_ += 1.0 + turn_;
+  c.simulated = simulated_;
   return c;
+}
+
+void WearCycles::resume(const WearCounters& c) {
+  simulated_ = c.simulated;
+  evaluations_ = c.evaluations;
+  row_ = c.rows;
+  index_ = c.index;
+  stepper_.surface_changed();
 }
 
 Field WearCycles::pressure_on(const Field& worn) {

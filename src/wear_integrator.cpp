@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <exception>
 #include <memory>
+#include <utility>
 
 #include "fretbem/errors.hpp"
 #include "fretbem/wear_preconditioner.hpp"
@@ -37,33 +38,58 @@ std::vector<double> snapshot_cycles(double N_end) {
 
 namespace {
 
-void keep(WearReport& rep, WearCycle c, WearLog* log, double simulated) {
-  if (log) log->cycle(c, simulated);
+void keep(WearReport& rep, WearCycle c, WearLog* log) {
+  if (log) log->cycle(c);
   c.rate = Field();
   rep.history.push_back(std::move(c));
 }
 
 // Reference: cycle after cycle, tractions carried, each cycle's wear applied before the next.
-WearReport integrate_cycles(Model& model, WearCycles& cyc, WearLog* log) {
+// A checkpoint after every cycle whose wear was applied (the last one only observes).
+WearReport integrate_cycles(Model& model, WearCycles& cyc, WearLog* log,
+                            const WearCheckpoint* resume, long max_steps) {
   WearReport rep;
   const double N_end = model.scenario.wear.cycles;
   const auto snaps = snapshot_cycles(N_end);
   std::size_t next_snap = 0;
-  cyc.start();
-  for (double N = 0.0; N <= N_end; N += 1.0) {
+  double N0 = 0.0;
+  long taken = 0;
+  if (resume) {
+    N0 = resume->N, next_snap = std::size_t(resume->next_snapshot);
+    cyc.resume(resume->counters);
+  } else {
+    cyc.start();
+  }
+  for (double N = N0; N <= N_end; N += 1.0) {
     WearCycle c = cyc.carried(N);
     if (log && next_snap < snaps.size() && snaps[next_snap] <= N) {
       log->snapshot(N, model.surface0 - model.surface, cyc.pressure());
       ++next_snap;
     }
     if (N < N_end) cyc.apply(c.rate);  // the last cycle observes the final surface
-    keep(rep, std::move(c), log, cyc.simulated());
+    c.accepted = true;
+    keep(rep, std::move(c), log);
+    if (N >= N_end) break;
+    if (log) {
+      WearCheckpoint at;
+      at.N = N + 1.0;
+      at.worn = model.surface0 - model.surface;
+      at.counters = cyc.counters();
+      at.steps = long(N) + 1;
+      at.next_snapshot = long(next_snap);
+      log->step_done(at);
+    }
+    if (max_steps >= 0 && ++taken >= max_steps) {
+      rep.stopped = true;
+      rep.N = N + 1.0;
+      break;
+    }
   }
   rep.worn = model.surface0 - model.surface;
-  rep.N = N_end;
+  if (!rep.stopped) rep.N = N_end;
   rep.simulated_cycles = cyc.simulated();
   rep.rhs_evaluations = cyc.evaluations();
-  rep.steps = long(N_end);
+  rep.steps = long(rep.N);
   return rep;
 }
 
@@ -93,6 +119,17 @@ struct OdeData {
   long base_generation = 0, linearised_generation = -1;
 };
 
+// FNV-1a over the bytes of W: identifies the evaluations made on an accepted state without
+// keeping a copy of W per evaluation (a collision needs two different worn-depth fields
+// with the same 64-bit hash).
+std::uint64_t fingerprint(const Eigen::Ref<const Field>& W) {
+  std::uint64_t h = 1469598103934665603ull;
+  const auto* b = reinterpret_cast<const unsigned char*>(W.data());
+  for (std::size_t i = 0; i < std::size_t(W.size()) * sizeof(double); ++i)
+    h = (h ^ b[i]) * 1099511628211ull;
+  return h;
+}
+
 // dW/dN = w(z0 - W): one steady cycle on the current surface per evaluation. Exceptions
 // cannot cross the C library: kept and rethrown after ARKODE returns.
 int wear_rhs(realtype N, N_Vector y, N_Vector ydot, void* user) {
@@ -108,7 +145,9 @@ int wear_rhs(realtype N, N_Vector y, N_Vector ydot, void* user) {
       ++d.base_generation;
     }
     d.step_max_slip = std::max(d.step_max_slip, c.max_slip);
-    keep(d.rep, std::move(c), d.log, d.cyc.simulated());
+    c.worn_hash = fingerprint(W);
+    // Logged once the step is done and its accepted state known (flush_step).
+    keep(d.rep, std::move(c), nullptr);
     return 0;
   } catch (...) {
     d.error = std::current_exception();
@@ -248,6 +287,18 @@ struct Integrator {
   int dky(double t, N_Vector y) {
     return implicit ? ARKStepGetDky(mem, t, 0, y) : ERKStepGetDky(mem, t, 0, y);
   }
+  // Restart at (t, y) with a first step h (resume): options are kept, the step-size
+  // controller's history is not.
+  int reset(double t, N_Vector y, double h) {
+    const int f = implicit ? ARKStepReset(mem, t, y) : ERKStepReset(mem, t, y);
+    if (f < 0) return f;
+    return implicit ? ARKStepSetInitStep(mem, h) : ERKStepSetInitStep(mem, h);
+  }
+  double next_step() {
+    double h = 0.0;
+    implicit ? ARKStepGetCurrentStep(mem, &h) : ERKStepGetCurrentStep(mem, &h);
+    return h;
+  }
   void stats(long& steps, long& fails) {
     if (implicit)
       ARKStepGetNumSteps(mem, &steps), ARKStepGetNumErrTestFails(mem, &fails);
@@ -317,13 +368,32 @@ void create(Integrator& it, N_Vector y, SUNContext ctx, OdeData& d, double h_cap
   check(ERKStepSetInitStep(it.mem, h0), "first step");
 }
 
+// Logs the rows of one integrator step (evaluations from rep.history[first] on) with their
+// accepted flag: an evaluation is accepted when it ran on the state before or after the step
+// (W and N equal) and that state has no accepted row yet, so N increases over accepted rows.
+// `last` (N, fingerprint) is the state with the latest accepted row; `final_state`: the state
+// after the step is the final one, whose accepted row is the final observation instead.
+void flush_step(WearReport& rep, std::size_t first, WearLog* log, double t0, std::uint64_t h0,
+                double t1, std::uint64_t h1, bool final_state,
+                std::pair<double, std::uint64_t>& last) {
+  for (std::size_t k = first; k < rep.history.size(); ++k) {
+    WearCycle& c = rep.history[k];
+    const std::pair<double, std::uint64_t> key{c.N, c.worn_hash};
+    const bool before = key == std::pair{t0, h0}, after = key == std::pair{t1, h1};
+    c.accepted = (before || (after && !final_state)) && key != last;
+    if (c.accepted) last = key;
+    if (log) log->cycle(c);
+  }
+}
+
 // wear.integrator = arkode: the explicit method while the run is short against its stability
 // cap, the implicit one past it. Measured (docs/wear.md): explicit wins at N_end / cap = 9 (n = 32,
 // 500 cycles: 54 vs 140 simulated cycles) and 16 (n = 64, 1e4: 35 vs 191); implicit wins at 360
 // (n = 32, 2e4: 436 vs 755) and 1600 (n = 64, 1e6: 516 vs 2011).
 constexpr double kImplicitPastCaps = 100.0;
 
-WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegrator kind) {
+WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegrator kind,
+                         const WearCheckpoint* resume, long max_steps) {
   WearReport rep;
   const Grid& g = model.scenario.grid;
   const double N_end = model.scenario.wear.cycles;
@@ -331,16 +401,33 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegr
   N_Vector y = N_VNew_Serial(sunindextype(g.nx) * g.ny, sun.ctx);
   if (!y) throw SolverError("SUNDIALS: no vector");
   std::unique_ptr<_generic_N_Vector, void (*)(N_Vector)> y_owner(y, N_VDestroy);
+  auto Wy = [&] { return Eigen::Map<Field>(N_VGetArrayPointer(y), g.nx, g.ny); };
   N_VConst(0.0, y);
   OdeData d{model, cyc, log, rep};
-  cyc.start();
-  // A first steady cycle on the unworn surface: the N = 0 row, snapshot and stability cap.
-  WearCycle c0 = cyc.steady(0.0, Field::Zero(g.nx, g.ny));
-  if (log) log->snapshot(0.0, Field::Zero(g.nx, g.ny), cyc.pressure());
-  const double cap = explicit_step_cap(model, c0.max_slip);
-  keep(rep, std::move(c0), log, cyc.simulated());
+  double t = 0.0, cap = INFINITY;
+  std::size_t first_snap = 1;
+  long steps0 = 0, rejected0 = 0;
+  if (resume) {
+    Wy() = resume->worn;
+    t = resume->N, cap = resume->h_max;
+    first_snap = std::size_t(resume->next_snapshot);
+    steps0 = resume->steps, rejected0 = resume->rejected;
+    cyc.resume(resume->counters);
+  } else {
+    cyc.start();
+    // A first steady cycle on the unworn surface: the N = 0 row, snapshot and stability cap.
+    WearCycle c0 = cyc.steady(0.0, Field::Zero(g.nx, g.ny));
+    c0.accepted = true;
+    c0.worn_hash = fingerprint(Wy());
+    if (log) log->snapshot(0.0, Field::Zero(g.nx, g.ny), cyc.pressure());
+    cap = explicit_step_cap(model, c0.max_slip);
+    keep(rep, std::move(c0), log);
+  }
+  std::pair<double, std::uint64_t> last{t, fingerprint(Wy())};  // its accepted row is out
+  // The cap of the unworn surface decides arkode's method; a resumed run keeps that choice.
   const bool implicit = kind == WearIntegrator::dirk ||
-                        (kind == WearIntegrator::arkode && N_end > kImplicitPastCaps * cap);
+                        (kind == WearIntegrator::arkode &&
+                         (resume ? resume->implicit : N_end > kImplicitPastCaps * cap));
   rep.implicit = implicit;
   if (implicit)
     d.pre = std::make_unique<WearPreconditioner>(*model.half_space,
@@ -348,32 +435,65 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegr
   Integrator it;
   it.implicit = implicit;
   create(it, y, sun.ctx, d, std::min(cap, N_end));
-  double t = 0.0;
-  // Steps run free of the snapshot times (a stop at each would cut the steps to the geometric
-  // sequence 1, 2, 5, ...); the worn depth there comes from the integrator's interpolant.
+  // A resumed run restarts a fresh integrator at (N, W) with the step it was about to try.
+  // The explicit integrator restarts so after every step anyway (below): resuming repeats the
+  // uninterrupted run. The implicit one loses its step-size and Newton history: close to,
+  // not bit-identical with, the uninterrupted run (docs/wear.md).
+  if (resume) check(it.reset(t, y, std::min(resume->h_next, N_end - t)), "restart");
   const auto snaps = snapshot_cycles(N_end);
-  std::size_t next = 1;
-  N_Vector ys = N_VClone(y);
-  std::unique_ptr<_generic_N_Vector, void (*)(N_Vector)> ys_owner(ys, N_VDestroy);
-  check(it.stop(N_end), "stop time");
-  while (t < N_end) {
-    d.step_max_slip = 0.0;
-    const int flag = it.evolve(N_end, y, &t);
-    if (d.error) std::rethrow_exception(d.error);
-    check(flag, "step");
-    if (!implicit) check(it.max_step(explicit_step_cap(model, d.step_max_slip)), "max step");
-    for (; log && next + 1 < snaps.size() && snaps[next] <= t; ++next) {
-      check(it.dky(snaps[next], ys), "interpolation");
-      const Field W = Eigen::Map<const Field>(N_VGetArrayPointer(ys), g.nx, g.ny);
-      log->snapshot(snaps[next], W, cyc.pressure_on(W));
+  long taken = 0;
+  for (std::size_t i = first_snap; i < snaps.size() && !rep.stopped; ++i) {
+    check(it.stop(snaps[i]), "stop time");
+    while (t < snaps[i]) {
+      d.step_max_slip = 0.0;
+      const double t0 = t;
+      const std::uint64_t h0 = fingerprint(Wy());
+      const std::size_t first = rep.history.size();
+      const int flag = it.evolve(snaps[i], y, &t);
+      if (d.error) std::rethrow_exception(d.error);
+      check(flag, "step");
+      if (!implicit) {
+        cap = explicit_step_cap(model, d.step_max_slip);
+        check(it.max_step(cap), "max step");
+      }
+      const bool final_state = t >= N_end;
+      flush_step(rep, first, log, t0, h0, t, fingerprint(Wy()), final_state, last);
+      if (final_state) break;
+      const bool snap = t >= snaps[i];
+      if (log && snap) log->snapshot(t, Wy(), cyc.pressure_on(Wy()));
+      long steps = 0, fails = 0;
+      it.stats(steps, fails);
+      // The explicit step obeys the new cap from its first attempt on.
+      const double h_next = implicit ? it.next_step() : std::min(it.next_step(), cap);
+      if (!implicit) {
+        // SUNDIALS 6.4 ERKStep treats a table with c_s = 1 as first-same-as-last and reuses
+        // the last stage's f(t + h, y + h k1) as the next step's f(t_{n+1}, y_{n+1}): for
+        // Heun–Euler (b = (1/2, 1/2) != a_2 = (1, 0)) one evaluation per step instead of two,
+        // and not the method (y' = y, h = 0.1, 10 steps: 2.70838 instead of Heun's 2.71408;
+        // measured with the installed 6.4.1). A restart at the accepted (t, y) makes ARKODE
+        // evaluate f there — the correct first stage and the accepted row of the step — and
+        // is exactly what a resumed run does, so resuming is the uninterrupted run.
+        check(it.reset(t, y, h_next), "restart");
+        check(it.stop(snaps[i]), "stop time");
+      }
+      if (log) {
+        WearCheckpoint at;
+        at.N = t;
+        at.worn = Wy();
+        at.h_next = h_next;
+        at.h_max = cap;
+        at.counters = cyc.counters();
+        at.steps = steps0 + steps, at.rejected = rejected0 + fails;
+        at.next_snapshot = long(snap ? i + 1 : i);
+        at.implicit = implicit;
+        log->step_done(at);
+      }
+      if (max_steps >= 0 && ++taken >= max_steps) {
+        rep.stopped = true;
+        break;
+      }
     }
   }
-  // The final surface: one more steady cycle to observe it (its wear is not applied).
-  rep.worn = Eigen::Map<const Field>(N_VGetArrayPointer(y), g.nx, g.ny);
-  WearCycle c = cyc.steady(N_end, rep.worn);
-  if (log) log->snapshot(N_end, rep.worn, cyc.pressure());
-  keep(rep, std::move(c), log, cyc.simulated());
-  model.surface = model.surface0 - rep.worn;
   it.stats(rep.steps, rep.rejected);
   if (implicit) {
     ARKStepGetNumNonlinSolvIters(it.mem, &rep.newton_iterations);
@@ -381,7 +501,18 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegr
     ARKStepGetNumLinIters(it.mem, &rep.krylov_iterations);
     rep.inner_iterations = d.pre->iterations();
   }
-  rep.N = N_end;
+  rep.steps += steps0, rep.rejected += rejected0;
+  rep.worn = Wy();
+  rep.N = t;
+  if (!rep.stopped) {
+    // The final surface: one more steady cycle to observe it (its wear is not applied).
+    WearCycle c = cyc.steady(N_end, rep.worn);
+    c.accepted = true;
+    if (log) log->snapshot(N_end, rep.worn, cyc.pressure());
+    keep(rep, std::move(c), log);
+    rep.N = N_end;
+  }
+  model.surface = model.surface0 - rep.worn;
   rep.simulated_cycles = cyc.simulated();
   rep.rhs_evaluations = cyc.evaluations();
   return rep;
@@ -389,15 +520,24 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegr
 
 }  // namespace
 
-WearReport integrate_wear(Model& model, WearCycles& cycles, WearLog* log) {
+Field indenter_worn(const Model& model, const Field& worn) {
+  return model.scenario.wear.indenter_share * worn;
+}
+
+Field half_space_worn(const Model& model, const Field& worn) {
+  return (1.0 - model.scenario.wear.indenter_share) * worn;
+}
+
+WearReport integrate_wear(Model& model, WearCycles& cycles, WearLog* log,
+                          const WearCheckpoint* resume, long max_steps) {
   if (!model.wear) throw InputError("wear.law: none (no wear to integrate)");
   switch (model.scenario.wear.integrator) {
     case WearIntegrator::cycle:
-      return integrate_cycles(model, cycles, log);
+      return integrate_cycles(model, cycles, log, resume, max_steps);
     case WearIntegrator::arkode:
     case WearIntegrator::erk:
     case WearIntegrator::dirk:
-      return integrate_ode(model, cycles, log, model.scenario.wear.integrator);
+      return integrate_ode(model, cycles, log, model.scenario.wear.integrator, resume, max_steps);
   }
   throw InputError("wear.integrator: unknown");
 }

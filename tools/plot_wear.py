@@ -1,6 +1,8 @@
 #!/usr/bin/python3
 """Wear plots of a fretbem wear run: centre-line profile and pressure sections at several N,
-the final worn-depth map, and wear volume against N (from DIR/result.h5 and DIR/wear.csv).
+the final worn-depth map, and wear volume against N (from DIR/result.h5 and DIR/cycles.csv;
+only the rows with accepted = 1, the integrator's solution, not its stage or trial
+evaluations).
 
 usage: tools/plot_wear.py DIR [--out FILE.png]
 """
@@ -38,7 +40,7 @@ def main():
         text = f["scenario"][()]
         text = text.decode() if isinstance(text, bytes) else text
         z0 = f["surface/initial"][()]
-        snaps = sorted(f["wear"].keys() - {"final_worn_depth"})
+        snaps = sorted(k for k in f["wear"].keys() if k.startswith("snapshot_"))
         N = [float(f["wear"][s].attrs["time"]) for s in snaps]
         worn = [f["wear"][s]["worn_depth"][()] for s in snaps]
         pres = [f["wear"][s]["pressure"][()] for s in snaps]
@@ -47,7 +49,9 @@ def main():
     h = length / nx
     x = (np.arange(nx) + 0.5 - 0.5 * nx) * h
     j = ny // 2
-    wear = np.genfromtxt(os.path.join(a.dir, "wear.csv"), delimiter=",", names=True)
+    wear = np.genfromtxt(os.path.join(a.dir, "cycles.csv"), delimiter=",", names=True)
+    wear = np.atleast_1d(wear)
+    wear = wear[wear["accepted"] == 1]
 
     fig, ax = plt.subplots(2, 2, figsize=(11, 8))
     pick = np.unique(np.linspace(0, len(N) - 1, min(len(N), 6)).round().astype(int))
@@ -56,8 +60,9 @@ def main():
         col = cmap(c / max(1, len(pick) - 1))
         ax[0, 0].plot(x * 1e6, -worn[i][j] * 1e9, color=col, label=f"N = {N[i]:.3g}")
         ax[0, 1].plot(x * 1e6, pres[i][j] / 1e6, color=col, label=f"N = {N[i]:.3g}")
-    # The profile change z - z0 = -W: on the scale of the indenter it would not be visible.
-    ax[0, 0].set(xlabel="x (µm)", ylabel="z - z0 (nm)", title="centre-line profile change")
+    # The gap's change -W (the indenter's profile change z - z0 when only it wears): on the
+    # scale of the indenter it would not be visible.
+    ax[0, 0].set(xlabel="x (µm)", ylabel="-W (nm)", title="centre-line worn depth (both bodies)")
     ax[0, 0].legend(fontsize=8)
     ax[0, 1].set(xlabel="x (µm)", ylabel="pressure (MPa)", title="centre-line pressure")
     ax[0, 1].legend(fontsize=8)
@@ -65,7 +70,11 @@ def main():
     im = ax[1, 0].imshow(worn[-1] * 1e9, origin="lower", extent=ext, cmap="magma")
     fig.colorbar(im, ax=ax[1, 0], label="worn depth (nm)")
     ax[1, 0].set(xlabel="x (µm)", ylabel="y (µm)", title=f"worn depth at N = {N[-1]:.3g}")
-    ax[1, 1].plot(wear["N"], wear["wear_volume"], ".", ms=3)
+    ax[1, 1].plot(wear["N"], wear["wear_volume"], ".-", ms=3, label="total")
+    if np.any(wear["wear_volume_half_space"] > 0):  # both bodies wear (wear.indenter_share)
+        ax[1, 1].plot(wear["N"], wear["wear_volume_indenter"], "--", label="indenter")
+        ax[1, 1].plot(wear["N"], wear["wear_volume_half_space"], ":", label="half-space")
+        ax[1, 1].legend(fontsize=8)
     ax[1, 1].set(xlabel="cycles N", ylabel="worn volume (m³)", title="wear volume")
     if wear["N"].max() > 100:
         ax[1, 1].set_xscale("symlog", linthresh=1)

@@ -4,9 +4,11 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "fretbem/stepper.hpp"
+#include "fretbem/wear_integrator.hpp"
 
 namespace fretbem {
 
@@ -14,11 +16,13 @@ struct Checkpoint {
   std::string scenario_text;  ///< the resolved scenario of the run
   InterfaceState state;
   StepperMemory memory;
-  Field surface;  ///< current (possibly worn) indenter height (m)
+  Field surface;                       ///< current (possibly worn) indenter height (m)
+  std::optional<WearCheckpoint> wear;  ///< wear runs: where the wear integration stands
 };
 
-/// Writes DIR/checkpoint.h5 atomically.
-void save_checkpoint(const std::filesystem::path& dir, const Model& model, const Stepper& stepper);
+/// Writes DIR/checkpoint.h5 atomically; `wear` for wear runs (run_wear).
+void save_checkpoint(const std::filesystem::path& dir, const Model& model, const Stepper& stepper,
+                     const WearCheckpoint* wear = nullptr);
 /// Reads DIR/checkpoint.h5 (InputError naming the file when missing or unreadable). The
 /// traction fields are shaped for `op` (same number of components as when saved).
 Checkpoint load_checkpoint(const std::filesystem::path& dir);

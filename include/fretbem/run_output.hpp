@@ -74,6 +74,12 @@ class ProgressLine final : public Observer {
   bool shown_ = false;
 };
 
+/// DIR/NAME.csv with these columns; resume_rows >= 0: keep the header and the first
+/// resume_rows data rows of an existing file and append (rows an interrupted run wrote after
+/// its checkpoint are dropped, not duplicated).
+io::CsvWriter open_csv(const std::filesystem::path& dir, const std::string& name,
+                       const std::vector<std::string>& cols, long resume_rows = -1);
+
 /// The fields a run can save, by their output names, in global x-y components.
 std::map<std::string, Field> output_fields(const std::vector<std::string>& names,
                                            const InterfaceState& state, const Model& model);

@@ -81,6 +81,9 @@ struct WearSpec {
   WearIntegrator integrator = WearIntegrator::arkode;
   double rtol = 1e-3, atol = 1e-9;
   WearNewton newton = WearNewton::frozen;
+  /// Share of the worn depth taken by the indenter, the rest by the half-space (issue 6:
+  /// "split between the two bodies with a ratio when both wear"); 1 = indenter only.
+  double indenter_share = 1.0;
 };
 
 struct Scenario {

@@ -29,6 +29,7 @@
 //    preconditioned by the same matrix): wear.newton.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -51,6 +52,36 @@ struct WearCycle {
   double peak_pressure = 0.0;   ///< max p (Pa)
   double delta = 0.0;           ///< indentation against the unworn datum (m)
   double max_slip = 0.0;        ///< largest slip path length of a node in the cycle (m)
+  double simulated = 0.0;       ///< simulated cycles so far, this one included
+  /// The surface it ran on is a point of the integrator's solution (cycle mode: always;
+  /// ARKODE: the first evaluation of an accepted state, and the final observation), not a
+  /// stage, trial or rejected evaluation. N is increasing over the accepted cycles.
+  bool accepted = false;
+  std::uint64_t worn_hash = 0;  ///< fingerprint of the worn depth it ran on (ARKODE only)
+};
+
+/// WearCycles' counters: what a resumed run continues from.
+struct WearCounters {
+  double simulated = 0.0;  ///< simulated cycles
+  int evaluations = 0;     ///< simulated-cycle evaluations (wear maps)
+  int rows = 0;            ///< rows emitted to the observers (timeseries.csv)
+  int index = 0;           ///< simulated-cycle index (the integer part of a row's time)
+};
+
+/// Where a wear run stands after a finished wear step — a simulated cycle (cycle mode) or an
+/// accepted integrator step (ARKODE) — besides the stepper state: the wear part of a
+/// checkpoint (checkpoint.hpp).
+struct WearCheckpoint {
+  double N = 0.0;           ///< cycle count reached (cycle mode: the next cycle to simulate)
+  Field worn;               ///< worn depth W at N (ARKODE; cycle mode: z0 - surface)
+  double h_next = 0.0;      ///< ARKODE: step to attempt next (the first step after a resume)
+  double h_max = INFINITY;  ///< ARKODE: explicit stability cap in force
+  WearCounters counters;
+  long steps = 0, rejected = 0;  ///< integrator steps so far (all invocations)
+  long next_snapshot = 0;        ///< index into snapshot_cycles(wear.cycles)
+  long cycles_rows = 0;          ///< rows of cycles.csv (set by the log)
+  long snapshots = 0;            ///< snapshot groups written (set by the log)
+  bool implicit = false;         ///< ARKODE: the method in use (arkode chooses once, at N = 0)
 };
 
 struct WearReport {
@@ -58,21 +89,27 @@ struct WearReport {
   std::vector<WearCycle> history;  ///< every simulated cycle (rate fields dropped)
   double simulated_cycles = 0.0;   ///< simulated cycles (a steady cycle counts as 1.25)
   int rhs_evaluations = 0;         ///< wear-map evaluations (cycles in cycle mode)
-  long steps = 0, rejected = 0;    ///< integrator steps (arkode/dirk)
+  long steps = 0, rejected = 0;    ///< integrator steps (arkode/dirk), all invocations
   bool implicit = false;           ///< the implicit method ran (dirk, or arkode's choice)
   /// Implicit integrator: Newton iterations and their convergence failures, Krylov iterations
   /// (wear.newton = krylov), inner CG iterations (= convolutions) of the frozen-slip solves.
   long newton_iterations = 0, newton_failures = 0, krylov_iterations = 0, inner_iterations = 0;
-  double N = 0.0;  ///< cycle count reached
+  double N = 0.0;        ///< cycle count reached
+  bool stopped = false;  ///< stopped by the step budget before wear.cycles
 };
 
-/// Destination of the wear outputs: DIR/wear.csv, snapshots in result.h5, progress.
+/// Destination of the wear outputs: DIR/cycles.csv, snapshots in result.h5, checkpoints,
+/// progress.
 class WearLog {
  public:
   virtual ~WearLog() = default;
-  virtual void cycle(const WearCycle& /*c*/, double /*simulated*/) {}
+  /// Every simulated cycle, in order; ARKODE rows come after the integrator step they belong
+  /// to is finished (their `accepted` flag is known only then).
+  virtual void cycle(const WearCycle& /*c*/) {}
   /// Fields at N (worn depth, pressure): called at the geometric sequence of N.
   virtual void snapshot(double /*N*/, const Field& /*worn*/, const Field& /*pressure*/) {}
+  /// A wear step is finished and its rows and snapshots are out: the state to resume from.
+  virtual void step_done(const WearCheckpoint& /*at*/) {}
 };
 
 /// Simulates cycles of the scenario's load path (its first period) on the model's surface.
@@ -93,6 +130,11 @@ class WearCycles {
   const Field& pressure() const { return stepper_.state().pressure; }
   double simulated() const { return simulated_; }
   int evaluations() const { return evaluations_; }
+  WearCounters counters() const { return {simulated_, evaluations_, row_, index_}; }
+  /// Resume: continue the counters; the stepper state was restored by the caller, and the
+  /// surface changed since its last normal solve (cycle mode applies a cycle's wear before
+  /// every checkpoint).
+  void resume(const WearCounters& c);
 
  private:
   void fresh(const Field& worn);
@@ -109,8 +151,12 @@ class WearCycles {
   int evaluations_ = 0, row_ = 0, index_ = 0;
 };
 
-/// Runs wear.integrator to wear.cycles. log may be null.
-WearReport integrate_wear(Model& model, WearCycles& cycles, WearLog* log);
+/// Runs wear.integrator to wear.cycles. log may be null. With `resume`, continues from that
+/// checkpoint (cycle mode: the caller restored the stepper state and the surface). At most
+/// `max_steps` wear steps (simulated cycles in cycle mode, accepted integrator steps in
+/// ARKODE modes) are taken in this call (negative: no limit); the report is then `stopped`.
+WearReport integrate_wear(Model& model, WearCycles& cycles, WearLog* log,
+                          const WearCheckpoint* resume = nullptr, long max_steps = -1);
 
 /// Stability cap on the cycle step of an explicit integrator: 1 / (k_eq s_max K_max),
 /// K_max = 1.7 E*/h the largest eigenvalue of the normal influence matrix (issue 6).
@@ -119,9 +165,19 @@ double explicit_step_cap(const Model& model, double max_slip);
 /// Geometric output sequence 0, 1, 2, 5, 10, 20, 50, ... up to and including N_end.
 std::vector<double> snapshot_cycles(double N_end);
 
+/// The worn depth of each body for a total worn depth W: the indenter takes
+/// wear.indenter_share of it, the half-space the rest (the contact sees only the sum).
+Field indenter_worn(const Model& model, const Field& worn);
+Field half_space_worn(const Model& model, const Field& worn);
+
+struct Checkpoint;
+
 /// The `fretbem run` of a scenario with a wear law: timeseries.csv (rows of every simulated
-/// cycle; time = simulated-cycle index + phase), cycles.csv, wear.csv, result.h5 with wear
-/// snapshots. Prints the simulated-cycle count unless quiet.
-WearReport run_wear(Model& model, bool quiet);
+/// cycle; time = simulated-cycle index + phase), cycles.csv (one row per simulated cycle),
+/// result.h5 with wear snapshots, and DIR/checkpoint.h5 after every wear step. `resume`: a
+/// checkpoint of this run to continue from; `max_steps` as integrate_wear. Prints the
+/// simulated-cycle count unless quiet.
+WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume = nullptr,
+                    long max_steps = -1);
 
 }  // namespace fretbem

@@ -29,7 +29,9 @@ constexpr const char* kUsage =
     "usage:\n"
     "  fretbem run SCENARIO.ini [--set section.key=value ...] [--out DIR] [--quiet]\n"
     "  fretbem run --resume DIR [--quiet]   (continue an interrupted run)\n"
-    "  run options: --stop-after N  run at most N steps, checkpoint, exit (resume later)\n"
+    "  run options: --stop-after N  run at most N steps, checkpoint, exit (resume later);\n"
+    "               wear runs: N simulated cycles (wear.integrator = cycle) or accepted\n"
+    "               integrator steps (ARKODE)\n"
     "  fretbem check SCENARIO.ini [--set section.key=value ...]\n"
     "  fretbem surface [SCENARIO.ini] [--set surface.key=value ...] --out FILE\n"
     "  fretbem ensemble SCENARIO.ini --hurst H1,H2,... [--seeds N] [--jobs J] [--bins B]\n"
@@ -147,6 +149,11 @@ int cmd_run(const Args& a) {
     Scenario sc = parse_scenario(cp.scenario_text, "resume", ".", {});
     sc.output.dir = a.resume;
     auto model = build_model(sc);
+    if (model->wear) {
+      run_wear(*model, a.quiet, &cp, a.stop_after);
+      return 0;
+    }
+    if (cp.wear) throw InputError(a.resume + "/checkpoint.h5: a wear run's, but no wear.law");
     model->surface = cp.surface;
     Stepper stepper(*model);
     stepper.restore(cp.state, cp.memory);
@@ -155,9 +162,8 @@ int cmd_run(const Args& a) {
   Scenario sc = read_scenario(a);
   if (!a.out.empty()) sc.output.dir = a.out;
   auto model = build_model(sc);
-  if (model->wear) {  // wear runs: their own driver (no checkpoints yet)
-    if (a.stop_after > 0) throw InputError("--stop-after: not supported for wear runs");
-    run_wear(*model, a.quiet);
+  if (model->wear) {  // wear runs: their own driver and checkpoints
+    run_wear(*model, a.quiet, nullptr, a.stop_after);
     return 0;
   }
   Stepper stepper(*model);

@@ -1,0 +1,350 @@
+// Wear-run outputs through the command line (issue 6): cycles.csv (one row per simulated
+// cycle, `accepted` marking the integrator's solution), wear of both bodies
+// (wear.indenter_share), checkpoints, --stop-after and --resume.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kBin = FRETBEM_BINARY;
+
+// Partial slip on the Hertz sphere of fretting_wear.ini at n = 32 (a ~ 8 cells), Archard
+// k = 2e-12 1/Pa: a few hundred cycles wear the slip annulus visibly.
+std::string run_args(const fs::path& out, const std::string& integrator, double N,
+                     const std::string& extra = "") {
+  return "run " + (fs::path(FRETBEM_SOURCE_DIR) / "scenarios" / "fretting_wear.ini").string() +
+         " --quiet --set grid.n=32 --set wear.coefficient=2e-12 --set wear.integrator=" +
+         integrator + " --set wear.cycles=" + std::to_string(int(N)) + " " + extra + " --out " +
+         out.string();
+}
+
+int sh(const std::string& args) {
+  return std::system((kBin + " " + args + " > /dev/null 2>&1").c_str());
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d =
+      fs::temp_directory_path() / ("fretbem_wearout_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(d);
+  return d;
+}
+
+struct Csv {
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+  std::vector<std::size_t> widths;  // cells per data row (a torn row has fewer)
+  std::size_t col(const std::string& name) const {
+    const auto it = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(it, header.end()) << name;
+    return std::size_t(it - header.begin());
+  }
+  std::vector<double> column(const std::string& name) const {
+    const std::size_t c = col(name);
+    std::vector<double> out;
+    for (const auto& r : rows) out.push_back(r.at(c));
+    return out;
+  }
+};
+
+Csv read_csv(const fs::path& p) {
+  std::ifstream in(p);
+  Csv c;
+  std::string line;
+  if (std::getline(in, line)) {
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) c.header.push_back(cell);
+  }
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::stringstream ss(line);
+    for (std::string cell; std::getline(ss, cell, ',');) row.push_back(std::stod(cell));
+    c.widths.push_back(row.size());
+    c.rows.push_back(row);
+  }
+  return c;
+}
+
+// A 2-D dataset of result.h5 as a flat vector (the order does not matter for the checks).
+std::vector<double> h5_field(const fs::path& file, const std::string& name) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  EXPECT_GE(f, 0) << file;
+  const hid_t d = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+  EXPECT_GE(d, 0) << name;
+  const hid_t s = H5Dget_space(d);
+  std::vector<double> out(std::size_t(H5Sget_simple_extent_npoints(s)));
+  EXPECT_GE(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), 0);
+  H5Sclose(s);
+  H5Dclose(d);
+  H5Fclose(f);
+  return out;
+}
+
+// Snapshot groups /wear/snapshot_* of result.h5: N -> total worn depth.
+std::map<double, std::vector<double>> h5_snapshots(const fs::path& file) {
+  std::map<double, std::vector<double>> out;
+  for (int k = 0;; ++k) {
+    char name[64];
+    std::snprintf(name, sizeof name, "/wear/snapshot_%06d", k);
+    const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const bool has = H5Lexists(f, name, H5P_DEFAULT) > 0;
+    double N = 0.0;
+    if (has) {
+      const hid_t a = H5Aopen_by_name(f, name, "time", H5P_DEFAULT, H5P_DEFAULT);
+      H5Aread(a, H5T_NATIVE_DOUBLE, &N);
+      H5Aclose(a);
+    }
+    H5Fclose(f);
+    if (!has) return out;
+    out[N] = h5_field(file, std::string(name) + "/worn_depth");
+  }
+}
+
+double max_abs(const std::vector<double>& v) {
+  double m = 0.0;
+  for (double x : v) m = std::max(m, std::abs(x));
+  return m;
+}
+
+double max_diff(const std::vector<double>& a, const std::vector<double>& b) {
+  EXPECT_EQ(a.size(), b.size());
+  double m = 0.0;
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    m = std::max(m, std::abs(a[i] - b[i]));
+  return m;
+}
+
+double sum(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x;
+  return s;
+}
+
+constexpr double kCellArea = (2.8e-4 / 32) * (2.8e-4 / 32);
+
+}  // namespace
+
+// Cycle mode: one row per simulated cycle, N = 0..N_end, every row accepted; no wear.csv.
+TEST(WearCyclesCsv, CycleModeOneRowPerCycle) {
+  const fs::path d = fresh_dir("cycle");
+  ASSERT_EQ(sh(run_args(d, "cycle", 12)), 0);
+  const Csv c = read_csv(d / "cycles.csv");
+  const std::vector<std::string> head{
+      "N",          "energy_per_cycle", "wear_volume", "max_worn_depth", "contact_radius",
+      "stick_area", "peak_pressure",    "delta",       "max_slip",       "simulated_cycles",
+      "accepted"};
+  ASSERT_GE(c.header.size(), head.size());
+  EXPECT_TRUE(std::equal(head.begin(), head.end(), c.header.begin()));
+  EXPECT_FALSE(fs::exists(d / "wear.csv"));
+  ASSERT_EQ(c.rows.size(), 13u);
+  for (std::size_t k = 0; k < c.rows.size(); ++k) {
+    EXPECT_EQ(c.rows[k][c.col("N")], double(k));
+    EXPECT_EQ(c.rows[k][c.col("accepted")], 1.0);
+    EXPECT_EQ(c.rows[k][c.col("simulated_cycles")], double(k + 1));
+  }
+  // The last row observes the final surface: its volume is that of the final worn depth.
+  const auto W = h5_field(d / "result.h5", "/wear/final_worn_depth");
+  EXPECT_NEAR(c.rows.back()[c.col("wear_volume")] / (sum(W) * kCellArea), 1.0, 1e-12);
+  EXPECT_GT(sum(W), 0.0);
+  fs::remove_all(d);
+}
+
+// ERK: every wear-map evaluation is a row; the accepted ones are the integrator's solution:
+// N strictly increasing from 0 to N_end, the worn volume never decreasing (dW/dN >= 0 and
+// Heun–Euler's update W + h (k1 + k2)/2 has positive weights), and at every snapshot N an
+// accepted row ran on exactly the snapshot's worn depth (volume to round-off).
+TEST(WearCyclesCsv, ErkAcceptedRowsAreTheSolution) {
+  const fs::path d = fresh_dir("erk");
+  ASSERT_EQ(sh(run_args(d, "erk", 300)), 0);
+  const Csv c = read_csv(d / "cycles.csv");
+  std::vector<double> N, V;
+  int trial = 0;
+  for (const auto& r : c.rows) {
+    if (r[c.col("accepted")] == 0.0) {
+      ++trial;
+      continue;
+    }
+    N.push_back(r[c.col("N")]), V.push_back(r[c.col("wear_volume")]);
+  }
+  ASSERT_GE(N.size(), 3u);
+  EXPECT_GT(trial, 0);  // the second Heun–Euler stage is never a solution point
+  EXPECT_EQ(N.front(), 0.0);
+  EXPECT_EQ(N.back(), 300.0);
+  for (std::size_t k = 1; k < N.size(); ++k) {
+    EXPECT_GT(N[k], N[k - 1]);
+    EXPECT_GE(V[k], V[k - 1]);
+  }
+  const auto snaps = h5_snapshots(d / "result.h5");
+  ASSERT_GE(snaps.size(), 5u);  // 0, 1, 2, 5, ..., 300
+  for (const auto& [n, W] : snaps) {
+    const auto it = std::find(N.begin(), N.end(), n);
+    ASSERT_NE(it, N.end()) << "no accepted row at snapshot N = " << n;
+    const double v = sum(W) * kCellArea, row = V[std::size_t(it - N.begin())];
+    EXPECT_NEAR(row, v, 1e-12 * std::max(v, 1e-30)) << "N = " << n;
+  }
+  fs::remove_all(d);
+}
+
+// --stop-after 5 in cycle mode stops after five simulated cycles with complete outputs; the
+// resumed run ends on the uninterrupted run's worn depth (the same arithmetic from the same
+// saved state: round-off only).
+TEST(WearResume, CycleModeStopAndResume) {
+  const fs::path full = fresh_dir("cyc_full"), part = fresh_dir("cyc_part");
+  ASSERT_EQ(sh(run_args(full, "cycle", 12)), 0);
+  ASSERT_EQ(sh(run_args(part, "cycle", 12, "--stop-after 5")), 0);
+  const Csv stopped = read_csv(part / "cycles.csv");
+  ASSERT_EQ(stopped.rows.size(), 5u);  // N = 0..4
+  EXPECT_EQ(stopped.rows.back()[stopped.col("N")], 4.0);
+  EXPECT_TRUE(fs::exists(part / "checkpoint.h5"));
+  ASSERT_EQ(sh("run --quiet --resume " + part.string()), 0);
+  const auto Wf = h5_field(full / "result.h5", "/wear/final_worn_depth");
+  const auto Wp = h5_field(part / "result.h5", "/wear/final_worn_depth");
+  ASSERT_GT(max_abs(Wf), 0.0);
+  EXPECT_LE(max_diff(Wf, Wp), 1e-9 * max_abs(Wf));
+  const Csv a = read_csv(full / "cycles.csv"), b = read_csv(part / "cycles.csv");
+  EXPECT_EQ(a.column("N"), b.column("N"));  // continued, no row lost or repeated
+  EXPECT_EQ(a.column("simulated_cycles"), b.column("simulated_cycles"));
+  EXPECT_EQ(read_csv(full / "timeseries.csv").rows.size(),
+            read_csv(part / "timeseries.csv").rows.size());
+  fs::remove_all(full);
+  fs::remove_all(part);
+}
+
+// ERK: stop after 3 accepted steps, resume with a fresh integrator at (N, W) and the saved
+// step. Both runs keep the local error below rtol |W| + atol per step; their final worn
+// depths differ by the integrators' different step sequences, a global error of the order of
+// rtol times the final depth.
+TEST(WearResume, ErkStopAndResumeWithinTolerance) {
+  const double rtol = 1e-3;
+  const fs::path full = fresh_dir("erk_full"), part = fresh_dir("erk_part");
+  ASSERT_EQ(sh(run_args(full, "erk", 300)), 0);
+  ASSERT_EQ(sh(run_args(part, "erk", 300, "--stop-after 3")), 0);
+  ASSERT_EQ(sh("run --quiet --resume " + part.string()), 0);
+  const auto Wf = h5_field(full / "result.h5", "/wear/final_worn_depth");
+  const auto Wp = h5_field(part / "result.h5", "/wear/final_worn_depth");
+  ASSERT_GT(max_abs(Wf), 0.0);
+  const double rel = max_diff(Wf, Wp) / max_abs(Wf);
+  std::printf("[ erk resume ] max |W_resumed - W| / max W = %.3g\n", rel);
+  EXPECT_LE(rel, rtol);
+  const Csv b = read_csv(part / "cycles.csv");
+  double prev = -1.0;
+  for (const auto& r : b.rows) {
+    if (r[b.col("accepted")] != 1.0) continue;
+    EXPECT_GT(r[b.col("N")], prev);
+    prev = r[b.col("N")];
+  }
+  EXPECT_EQ(prev, 300.0);
+  fs::remove_all(full);
+  fs::remove_all(part);
+}
+
+// A cycle-mode wear run killed with SIGKILL keeps complete rows and resumes to the
+// uninterrupted run's worn depth (round-off), every cycle N listed once.
+TEST(WearResume, KilledRunResumes) {
+  const int N = 120;
+  const fs::path full = fresh_dir("kill_full"), part = fresh_dir("kill_part");
+  ASSERT_EQ(sh(run_args(full, "cycle", N)), 0);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string cmd = "exec " + kBin + " " + run_args(part, "cycle", N) + " > /dev/null";
+    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  for (int i = 0; i < 4000 && read_csv(part / "cycles.csv").rows.size() < 20; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  kill(pid, SIGKILL);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  const Csv killed = read_csv(part / "cycles.csv");
+  std::printf("[ kill ] %zu of %d cycles.csv rows on disk when killed\n", killed.rows.size(),
+              N + 1);
+  ASSERT_GE(killed.rows.size(), 2u);
+  for (std::size_t w : killed.widths) EXPECT_EQ(w, killed.header.size());
+  ASSERT_EQ(sh("run --quiet --resume " + part.string()), 0);
+  const auto Wf = h5_field(full / "result.h5", "/wear/final_worn_depth");
+  const auto Wp = h5_field(part / "result.h5", "/wear/final_worn_depth");
+  EXPECT_LE(max_diff(Wf, Wp), 1e-9 * max_abs(Wf));
+  const auto Nc = read_csv(part / "cycles.csv").column("N");
+  ASSERT_EQ(Nc.size(), std::size_t(N + 1));
+  for (int k = 0; k <= N; ++k) EXPECT_EQ(Nc[std::size_t(k)], double(k));
+  fs::remove_all(full);
+  fs::remove_all(part);
+}
+
+// Both bodies wear, half each: the contact sees only the gap, i.e. the sum of the worn
+// depths, so pressure, indentation (against the unworn datums) and the whole tangential
+// history are those of the indenter-only run (identical arithmetic: round-off at most);
+// each body carries its share of the worn depth and the volumes add up.
+TEST(WearBothBodies, HalfShareSameContactHistory) {
+  const fs::path one = fresh_dir("share1"), half = fresh_dir("share05");
+  ASSERT_EQ(sh(run_args(one, "cycle", 10)), 0);
+  ASSERT_EQ(sh(run_args(half, "cycle", 10, "--set wear.indenter_share=0.5")), 0);
+  const Csv a = read_csv(one / "cycles.csv"), b = read_csv(half / "cycles.csv");
+  for (const char* col : {"energy_per_cycle", "wear_volume", "contact_radius", "stick_area",
+                          "peak_pressure", "delta"}) {
+    const auto x = a.column(col), y = b.column(col);
+    EXPECT_LE(max_diff(x, y), 1e-12 * max_abs(x)) << col;
+  }
+  const Csv ta = read_csv(one / "timeseries.csv"), tb = read_csv(half / "timeseries.csv");
+  for (const char* col : {"Fz", "delta", "Fx", "Ux", "contact_area", "stick_area", "dissipation"}) {
+    const auto x = ta.column(col), y = tb.column(col);
+    EXPECT_LE(max_diff(x, y), 1e-12 * max_abs(x)) << col;
+  }
+  const auto V = b.column("wear_volume"), Vi = b.column("wear_volume_indenter"),
+             Vh = b.column("wear_volume_half_space");
+  for (std::size_t k = 0; k < V.size(); ++k) {
+    EXPECT_NEAR(Vi[k], 0.5 * V[k], 1e-15 * V[k]);
+    EXPECT_NEAR(Vi[k] + Vh[k], V[k], 1e-15 * V[k]);
+  }
+  const fs::path h5 = half / "result.h5";
+  const auto W = h5_field(h5, "/wear/final_worn_depth"),
+             Wi = h5_field(h5, "/wear/final_worn_depth_indenter"),
+             Wh = h5_field(h5, "/wear/final_worn_depth_half_space");
+  const auto z0 = h5_field(h5, "/surface/initial"), zi = h5_field(h5, "/surface/final"),
+             zh = h5_field(h5, "/surface/final_half_space");
+  ASSERT_GT(max_abs(W), 0.0);
+  EXPECT_EQ(max_diff(W, h5_field(one / "result.h5", "/wear/final_worn_depth")), 0.0);
+  const double tol = 1e-15 * max_abs(W);
+  for (std::size_t k = 0; k < W.size(); ++k) {
+    EXPECT_NEAR(Wi[k], 0.5 * W[k], tol);
+    EXPECT_NEAR(Wh[k], 0.5 * W[k], tol);
+    EXPECT_NEAR(Wi[k] + Wh[k], W[k], tol);
+    EXPECT_NEAR(z0[k] - zi[k], Wi[k], 1e-15 * max_abs(z0));  // indenter height lost W_i
+    EXPECT_NEAR(zh[k], -Wh[k], tol);                         // half-space surface sank W_h
+  }
+  fs::remove_all(one);
+  fs::remove_all(half);
+}
+
+TEST(WearBothBodies, ShareOutsideUnitIntervalIsOneLineError) {
+  const fs::path d = fresh_dir("badshare");
+  const std::string err =
+      (d.parent_path() / ("fretbem_badshare_err_" + std::to_string(getpid()))).string();
+  const int s = std::system((kBin + " " + run_args(d, "cycle", 2, "--set wear.indenter_share=1.5") +
+                             " > /dev/null 2> " + err)
+                                .c_str());
+  EXPECT_NE(s, 0);
+  std::ifstream in(err);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string msg = ss.str();
+  EXPECT_EQ(std::count(msg.begin(), msg.end(), '\n'), 1) << msg;
+  EXPECT_NE(msg.find("wear.indenter_share"), std::string::npos) << msg;
+  fs::remove(err);
+  fs::remove_all(d);
+}
