@@ -12,7 +12,7 @@
 // Modes (wear.integrator):
 //  - cycle: the reference. Cycle after cycle with tractions carried (the physical history);
 //    each cycle's wear is applied before the next.
-//  - arkode (default): erk while wear.cycles is at most 100 explicit stability caps, dirk past
+//  - arkode (default): erk while wear.cycles is at most 50 explicit stability caps, dirk past
 //    that (measured crossover, docs/wear.md).
 //  - erk: dW/dN = w(z0 - W) for the worn depth W, explicit adaptive Runge–Kutta
 //    (SUNDIALS ARKODE ERKStep), error-controlled, with the step capped by the explicit stability
