@@ -195,8 +195,9 @@ TEST(WearIntegrators, ArkodeMatchesCycleByCycle) {
 
 // A long run far past the explicit stability cap (1 / (k s K_max) ~ 60 cycles here, against
 // N = 20000) into shakedown: the implicit and explicit integrators reach the same profile
-// (2 % of its maximum), the implicit one with fewer simulated cycles, and the implicit steps
-// keep the stick zone unworn (the stiff modes are damped, not amplified).
+// (2 % of its maximum), the implicit one with fewer simulated cycles, the implicit steps
+// keep the stick zone unworn (the stiff modes are damped, not amplified), and both end in the
+// closed-form shakedown state.
 TEST(WearIntegrators, ImplicitLongRunMatchesExplicit) {
   const int n = 32;
   const double k = 2e-12, N = 20000;
@@ -211,9 +212,29 @@ TEST(WearIntegrators, ImplicitLongRunMatchesExplicit) {
       N, e.rep.simulated_cycles, i.rep.simulated_cycles, i.rep.newton_iterations, err);
   EXPECT_LT(err, 0.02);
   EXPECT_LT(i.rep.simulated_cycles, e.rep.simulated_cycles);
-  const double c = hertz_a() * std::cbrt(0.4), h = kL / n;
+  const double a = hertz_a(), c = a * std::cbrt(0.4), h = kL / n;
   const Field stick = (radius(n) < c - 1.5 * h).cast<double>();
   EXPECT_LT(masked_max(i.rep.worn, stick), 1e-6 * i.rep.worn.maxCoeff());
+  // Shakedown (Popov, Sci. Rep. 4:3749, 2014): the annulus is unloaded, the contact is the
+  // stick disc r < c, which does not slip any more, and the indenter is the unworn sphere
+  // there. An axisymmetric profile f in contact over a fixed disc c carries
+  // P = 2 E* int_0^c (d - g(x)) dx with g(x) = x int_0^x f'(r) / sqrt(x^2 - r^2) dr = x^2 / R
+  // (Sneddon 1965; Popov & Hess, MDR), so d = P / (2 E* c) + c^2 / (3 R) against the apex —
+  // the unworn datum, the apex being in the stick zone. The discrete stick boundary is within
+  // half a cell of c (h / 2c = 8.6 % at n = 32) and |dln d / dln c| = 0.5 here: 2.5 %.
+  const double Es = kE / (1 - kNu * kNu);
+  const double d_inf = kP / (2 * Es * c) + c * c / (3 * kR);
+  for (const WearRun* r : {&e, &i}) {
+    const WearCycle& last = r->rep.history.back();
+    EXPECT_NEAR(last.delta / d_inf, 1.0, 0.025);
+    EXPECT_NEAR(last.contact_radius, c, h);
+    EXPECT_LE(last.energy, 1e-6 * r->rep.history.front().energy);
+  }
+  std::printf(
+      "[ shakedown ] delta %.5g (erk), %.5g (dirk) against %.5g; contact radius %.4g vs "
+      "c = %.4g m\n",
+      e.rep.history.back().delta, i.rep.history.back().delta, d_inf,
+      i.rep.history.back().contact_radius, c);
 }
 
 // Two tolerances give the same long-run profile (2 % of its maximum).
