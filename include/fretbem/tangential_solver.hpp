@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <memory>
 
+#include "fretbem/normal_solver.hpp"
 #include "fretbem/tangential_operator.hpp"
 
 namespace fretbem {
@@ -23,6 +24,9 @@ enum class TangentialControl { displacement, force };
 struct TangentialOptions {
   double tolerance = 1e-10;  ///< relative slip residual at which an increment stops
   int max_iterations = 5000;
+  /// Fourier preconditioning of the projected CG's stick-set directions,
+  /// z = S K_z^-1 S s (S the stick set), as in the normal solver; see ProjectedCgSolver.
+  Precondition precondition = Precondition::off;
 };
 
 /// One increment: the state at the end of the previous step and the load of this one.
@@ -58,17 +62,23 @@ class TangentialSolver {
 
 /// Polonsky–Keer-type projected conjugate gradient: CG on the stick set, projection of
 /// tractions onto their Coulomb discs, Jacobi re-entry of slip nodes whose slip turned,
-/// conjugacy restarted whenever the stick set changes. About one convolution per iteration.
+/// conjugacy restarted whenever the stick set changes. About one convolution per iteration,
+/// plus one per component when preconditioned.
 class ProjectedCgSolver final : public TangentialSolver {
  public:
   ProjectedCgSolver(TangentialOperator& op, TangentialOptions opt);
   ~ProjectedCgSolver() override;
   TangentialResult solve(const TangentialIncrement& inc, VecField& tau, VecField& u) override;
+  /// Whether solve() preconditions on this grid (TangentialOptions::precondition).
+  bool preconditioned() const;
 
  private:
+  template <int NC>
+  TangentialResult solve_components(const TangentialIncrement& inc, VecField& tau, VecField& u);
+
   TangentialOperator& op_;
   TangentialOptions opt_;
-  VecField s_, d_, q_;
+  VecField d_, q_, r_, z_;  // direction, its image C d; preconditioner input S s, output
   // Displacement scale |C g|, reused while the bound is unchanged.
   std::unique_ptr<tangential_detail::ScaleCache> cache_;
 };
