@@ -17,7 +17,7 @@ namespace fretbem {
 
 namespace tangential_detail {
 class ScaleCache;
-}
+}  // namespace tangential_detail
 
 enum class TangentialControl { displacement, force };
 
@@ -26,7 +26,7 @@ struct TangentialOptions {
   int max_iterations = 5000;
   /// Fourier preconditioning of the projected CG's stick-set directions,
   /// z = S K_z^-1 S s (S the stick set), as in the normal solver; see ProjectedCgSolver.
-  Precondition precondition = Precondition::off;
+  Precondition precondition = Precondition::automatic;
 };
 
 /// One increment: the state at the end of the previous step and the load of this one.
@@ -69,8 +69,11 @@ class ProjectedCgSolver final : public TangentialSolver {
   ProjectedCgSolver(TangentialOperator& op, TangentialOptions opt);
   ~ProjectedCgSolver() override;
   TangentialResult solve(const TangentialIncrement& inc, VecField& tau, VecField& u) override;
-  /// Whether solve() preconditions on this grid (TangentialOptions::precondition).
-  bool preconditioned() const;
+  /// Whether solve() preconditions an increment with this bound (TangentialOptions::
+  /// precondition; automatic: on when the largest contact patch has kPatchNodes nodes or more).
+  bool preconditioned(const Field& bound) const;
+  /// Automatic preconditioning from this largest contact patch (a disc of radius ~25 cells).
+  static constexpr std::int64_t kPatchNodes = 2048;
 
  private:
   template <int NC>
@@ -102,6 +105,10 @@ class PartitionSolver final : public TangentialSolver {
 /// Under force control dU is the mean of u - u0 over stick nodes.
 double coulomb_residual(const Grid& grid, const TangentialIncrement& inc, const VecField& tau,
                         const VecField& u, double scale, Eigen::VectorXd& dU, VecField& s);
+
+/// Nodes of the largest 4-connected patch of contact nodes (bound > 0). Decides the automatic
+/// preconditioning of ProjectedCgSolver.
+std::int64_t largest_contact_patch(const Field& bound);
 
 /// Stick-node tolerance: a node with |tau| < g (1 - kBoundEps) is free to stick; slip nodes sit
 /// on the bound up to round-off because they are placed there by projection.

@@ -19,7 +19,7 @@
 //
 // Usage: bench_tangential [--max-n N] [--min-n N] [--repeats R] [--threads T] [--tol X]
 //                         [--case cattaneo|rough|both] [--algorithm projected|partition|both]
-//                         [--precondition off|on|auto|compare]
+//                         [--precondition off|on|auto|compare] [--rough-contact F]
 // --precondition sets the projected solver's TangentialOptions::precondition; `compare` runs
 // the projected solver both without and with it (rows "projected" and "projected+PCG").
 #include <cmath>
@@ -42,7 +42,7 @@ namespace {
 
 struct Options {
   int min_n = 128, max_n = 512, repeats = 3, threads = 1;
-  double tol = 1e-10;
+  double tol = 1e-10, rough_contact = 0.07;
   std::string cases = "both", algorithms = "both", precondition = "off";
 };
 
@@ -50,7 +50,7 @@ void usage(int status) {
   std::fprintf(status ? stderr : stdout,
                "usage: bench_tangential [--min-n N] [--max-n N] [--repeats R] [--threads T] "
                "[--tol X] [--case cattaneo|rough|both] [--algorithm projected|partition|both] "
-               "[--precondition off|on|auto|compare]\n");
+               "[--precondition off|on|auto|compare] [--rough-contact F]\n");
   std::exit(status);
 }
 
@@ -70,6 +70,8 @@ Options parse(int argc, char** argv) {
       o.tol = std::atof(argv[++i]);
     else if (a == "--case" && i + 1 < argc)
       o.cases = argv[++i];
+    else if (a == "--rough-contact" && i + 1 < argc)
+      o.rough_contact = std::atof(argv[++i]);
     else if (a == "--algorithm" && i + 1 < argc)
       o.algorithms = argv[++i];
     else if (a == "--precondition" && i + 1 < argc)
@@ -137,9 +139,9 @@ std::unique_ptr<Case> rough(int n, const Options& o) {
   spec.method = RoughMethod::fourier;
   spec.seed = 42;
   const Field z = rough_surface(c->grid, spec);
-  // Mean pressure for ~7 % contact: A/A0 ~ kappa pbar / (E* slope) with kappa ~ 2 (Persson;
-  // Hyun et al. 2004); the measured fraction is printed.
-  const double pbar = 0.07 * c->mat.E_star() * 0.1 / 2.0;
+  // Mean pressure for ~7 % contact (--rough-contact): A/A0 ~ kappa pbar / (E* slope) with
+  // kappa ~ 2 (Persson; Hyun et al. 2004); the measured fraction is printed.
+  const double pbar = o.rough_contact * c->mat.E_star() * 0.1 / 2.0;
   NormalSolver ns(*c->hs, {std::min(o.tol, 1e-10), 5000});
   Field p;
   const auto r = ns.solve_force(z, pbar * c->grid.length_x() * c->grid.length_y(), p);
@@ -265,8 +267,11 @@ int main(int argc, char** argv) {
       auto c = name == "cattaneo" ? cattaneo(n, o) : rough(n, o);
       Field f = c->grid.zeros(), u;
       const double conv = bench::cpu_per_call([&] { c->hs->normal(f, u); }, 5);
-      std::fprintf(stderr, "  contact %.2f %%, normal solve %d iterations %d convolutions\n",
-                   100 * c->contact_fraction, c->normal_iterations, c->normal_convolutions);
+      std::fprintf(stderr,
+                   "  contact %.2f %%, largest patch %lld nodes, normal solve %d iterations %d "
+                   "convolutions\n",
+                   100 * c->contact_fraction, (long long)largest_contact_patch(c->bound),
+                   c->normal_iterations, c->normal_convolutions);
       for (const Variant& v : variants(o))
         for (bool warm : {true, false}) {
           rows.push_back(measure(*c, v, warm, o, conv));
