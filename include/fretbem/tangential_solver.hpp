@@ -10,19 +10,23 @@
 #include <Eigen/Core>
 #include <memory>
 
+#include "fretbem/normal_solver.hpp"
 #include "fretbem/tangential_operator.hpp"
 
 namespace fretbem {
 
 namespace tangential_detail {
 class ScaleCache;
-}
+}  // namespace tangential_detail
 
 enum class TangentialControl { displacement, force };
 
 struct TangentialOptions {
   double tolerance = 1e-10;  ///< relative slip residual at which an increment stops
   int max_iterations = 5000;
+  /// Fourier preconditioning of the projected CG's stick-set directions,
+  /// z = S K_z^-1 S s (S the stick set), as in the normal solver; see ProjectedCgSolver.
+  Precondition precondition = Precondition::automatic;
 };
 
 /// One increment: the state at the end of the previous step and the load of this one.
@@ -58,17 +62,26 @@ class TangentialSolver {
 
 /// Polonsky–Keer-type projected conjugate gradient: CG on the stick set, projection of
 /// tractions onto their Coulomb discs, Jacobi re-entry of slip nodes whose slip turned,
-/// conjugacy restarted whenever the stick set changes. About one convolution per iteration.
+/// conjugacy restarted whenever the stick set changes. About one convolution per iteration,
+/// plus one per component when preconditioned.
 class ProjectedCgSolver final : public TangentialSolver {
  public:
   ProjectedCgSolver(TangentialOperator& op, TangentialOptions opt);
   ~ProjectedCgSolver() override;
   TangentialResult solve(const TangentialIncrement& inc, VecField& tau, VecField& u) override;
+  /// Whether solve() preconditions an increment with this bound (TangentialOptions::
+  /// precondition; automatic: on when the largest contact patch has kPatchNodes nodes or more).
+  bool preconditioned(const Field& bound) const;
+  /// Automatic preconditioning from this largest contact patch (a disc of radius ~25 cells).
+  static constexpr std::int64_t kPatchNodes = 2048;
 
  private:
+  template <int NC>
+  TangentialResult solve_components(const TangentialIncrement& inc, VecField& tau, VecField& u);
+
   TangentialOperator& op_;
   TangentialOptions opt_;
-  VecField s_, d_, q_;
+  VecField d_, q_, r_, z_;  // direction, its image C d; preconditioner input S s, output
   // Displacement scale |C g|, reused while the bound is unchanged.
   std::unique_ptr<tangential_detail::ScaleCache> cache_;
 };
@@ -92,6 +105,10 @@ class PartitionSolver final : public TangentialSolver {
 /// Under force control dU is the mean of u - u0 over stick nodes.
 double coulomb_residual(const Grid& grid, const TangentialIncrement& inc, const VecField& tau,
                         const VecField& u, double scale, Eigen::VectorXd& dU, VecField& s);
+
+/// Nodes of the largest 4-connected patch of contact nodes (bound > 0). Decides the automatic
+/// preconditioning of ProjectedCgSolver.
+std::int64_t largest_contact_patch(const Field& bound);
 
 /// Stick-node tolerance: a node with |tau| < g (1 - kBoundEps) is free to stick; slip nodes sit
 /// on the bound up to round-off because they are placed there by projection.

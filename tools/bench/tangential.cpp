@@ -18,7 +18,10 @@
 // convolutions per increment partition / projected. Prints Markdown.
 //
 // Usage: bench_tangential [--max-n N] [--min-n N] [--repeats R] [--threads T] [--tol X]
-//                         [--case cattaneo|rough|both]
+//                         [--case cattaneo|rough|both] [--algorithm projected|partition|both]
+//                         [--precondition off|on|auto|compare] [--rough-contact F]
+// --precondition sets the projected solver's TangentialOptions::precondition; `compare` runs
+// the projected solver both without and with it (rows "projected" and "projected+PCG").
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -39,14 +42,15 @@ namespace {
 
 struct Options {
   int min_n = 128, max_n = 512, repeats = 3, threads = 1;
-  double tol = 1e-10;
-  std::string cases = "both";
+  double tol = 1e-10, rough_contact = 0.07;
+  std::string cases = "both", algorithms = "both", precondition = "off";
 };
 
 void usage(int status) {
   std::fprintf(status ? stderr : stdout,
                "usage: bench_tangential [--min-n N] [--max-n N] [--repeats R] [--threads T] "
-               "[--tol X] [--case cattaneo|rough|both]\n");
+               "[--tol X] [--case cattaneo|rough|both] [--algorithm projected|partition|both] "
+               "[--precondition off|on|auto|compare] [--rough-contact F]\n");
   std::exit(status);
 }
 
@@ -66,6 +70,12 @@ Options parse(int argc, char** argv) {
       o.tol = std::atof(argv[++i]);
     else if (a == "--case" && i + 1 < argc)
       o.cases = argv[++i];
+    else if (a == "--rough-contact" && i + 1 < argc)
+      o.rough_contact = std::atof(argv[++i]);
+    else if (a == "--algorithm" && i + 1 < argc)
+      o.algorithms = argv[++i];
+    else if (a == "--precondition" && i + 1 < argc)
+      o.precondition = argv[++i];
     else if (a == "--help" || a == "-h")
       usage(0);
     else
@@ -129,9 +139,9 @@ std::unique_ptr<Case> rough(int n, const Options& o) {
   spec.method = RoughMethod::fourier;
   spec.seed = 42;
   const Field z = rough_surface(c->grid, spec);
-  // Mean pressure for ~7 % contact: A/A0 ~ kappa pbar / (E* slope) with kappa ~ 2 (Persson;
-  // Hyun et al. 2004); the measured fraction is printed.
-  const double pbar = 0.07 * c->mat.E_star() * 0.1 / 2.0;
+  // Mean pressure for ~7 % contact (--rough-contact): A/A0 ~ kappa pbar / (E* slope) with
+  // kappa ~ 2 (Persson; Hyun et al. 2004); the measured fraction is printed.
+  const double pbar = o.rough_contact * c->mat.E_star() * 0.1 / 2.0;
   NormalSolver ns(*c->hs, {std::min(o.tol, 1e-10), 5000});
   Field p;
   const auto r = ns.solve_force(z, pbar * c->grid.length_x() * c->grid.length_y(), p);
@@ -149,13 +159,21 @@ struct Run {
 
 /// One pass over the load sequence. Warm: increment k starts from the state of k-1. Cold:
 /// increment k starts from zero traction and goes to the absolute target k in one step.
-Run run_once(Case& c, bool partition, bool warm, double tol) {
+/// A solver variant: the algorithm and, for the projected CG, its preconditioning.
+struct Variant {
+  std::string label;
+  bool partition = false;
+  Precondition precondition = Precondition::off;
+};
+
+Run run_once(Case& c, const Variant& v, bool warm, double tol) {
   TangentialOperator op(*c.hs, Vec2(1, 0));
   std::unique_ptr<TangentialSolver> s;
-  if (partition)
-    s = std::make_unique<PartitionSolver>(op, TangentialOptions{tol, 100000});
+  const TangentialOptions opt{tol, 100000, v.precondition};
+  if (v.partition)
+    s = std::make_unique<PartitionSolver>(op, opt);
   else
-    s = std::make_unique<ProjectedCgSolver>(op, TangentialOptions{tol, 100000});
+    s = std::make_unique<ProjectedCgSolver>(op, opt);
   // The displacement scale |C g| is computed once per bound and cached: do it before timing.
   {
     VecField t = op.zeros(), u = op.zeros();
@@ -191,11 +209,10 @@ struct Row {
   int max_iterations = 0;
 };
 
-Row measure(Case& c, bool partition, bool warm, const Options& o, double conv_seconds) {
+Row measure(Case& c, const Variant& v, bool warm, const Options& o, double conv_seconds) {
   std::vector<Run> runs;
-  for (int r = 0; r < o.repeats; ++r) runs.push_back(run_once(c, partition, warm, o.tol));
-  Row row{c.name, partition ? "partition" : "projected", warm ? "warm" : "cold", c.grid.nx,
-          c.contact_fraction};
+  for (int r = 0; r < o.repeats; ++r) runs.push_back(run_once(c, v, warm, o.tol));
+  Row row{c.name, v.label, warm ? "warm" : "cold", c.grid.nx, c.contact_fraction};
   const std::size_t inc = c.targets.size();
   for (std::size_t k = 0; k < inc; ++k) {
     std::vector<double> t, tc;
@@ -208,6 +225,32 @@ Row measure(Case& c, bool partition, bool warm, const Options& o, double conv_se
   }
   row.conv_seconds = conv_seconds;
   return row;
+}
+
+std::vector<Variant> variants(const Options& o) {
+  std::vector<Variant> v;
+  if (o.algorithms != "partition") {
+    if (o.precondition == "compare") {
+      v.push_back({"projected", false, Precondition::off});
+      v.push_back({"projected+PCG", false, Precondition::on});
+    } else if (o.precondition == "on") {
+      v.push_back({"projected+PCG", false, Precondition::on});
+    } else if (o.precondition == "auto") {
+      v.push_back({"projected (auto)", false, Precondition::automatic});
+    } else {
+      v.push_back({"projected", false, Precondition::off});
+    }
+  }
+  if (o.algorithms != "projected") v.push_back({"partition", true, Precondition::off});
+  return v;
+}
+
+const Row* find(const std::vector<Row>& rows, const Row& like, const std::string& algorithm,
+                const std::string& start) {
+  for (const Row& r : rows)
+    if (r.name == like.name && r.n == like.n && r.algorithm == algorithm && r.start == start)
+      return &r;
+  return nullptr;
 }
 
 }  // namespace
@@ -224,11 +267,14 @@ int main(int argc, char** argv) {
       auto c = name == "cattaneo" ? cattaneo(n, o) : rough(n, o);
       Field f = c->grid.zeros(), u;
       const double conv = bench::cpu_per_call([&] { c->hs->normal(f, u); }, 5);
-      std::fprintf(stderr, "  contact %.2f %%, normal solve %d iterations %d convolutions\n",
-                   100 * c->contact_fraction, c->normal_iterations, c->normal_convolutions);
-      for (bool partition : {false, true})
+      std::fprintf(stderr,
+                   "  contact %.2f %%, largest patch %lld nodes, normal solve %d iterations %d "
+                   "convolutions\n",
+                   100 * c->contact_fraction, (long long)largest_contact_patch(c->bound),
+                   c->normal_iterations, c->normal_convolutions);
+      for (const Variant& v : variants(o))
         for (bool warm : {true, false}) {
-          rows.push_back(measure(*c, partition, warm, o, conv));
+          rows.push_back(measure(*c, v, warm, o, conv));
           const Row& r = rows.back();
           std::fprintf(stderr, "  %s %s: %.1f it, %.1f conv, %.2f CPU ms per increment\n",
                        r.algorithm.c_str(), r.start.c_str(), r.iterations, r.convolutions,
@@ -252,17 +298,16 @@ int main(int argc, char** argv) {
                 r.iterations, r.max_iterations, r.convolutions, 1e3 * r.seconds, 1e3 * r.cpu,
                 1e3 * per_it, per_it / r.conv_seconds);
   }
+  // Other variants against the plain projected CG, same case and start (same run).
   std::printf(
-      "\nConvolutions per increment, partition / projected (same run; time ratios from CPU "
-      "time):\n\n"
-      "| case | n | conv. ratio warm | conv. ratio cold | time ratio warm | time ratio cold "
-      "|\n|---|---|---|---|---|---|\n");
-  for (std::size_t i = 0; i + 3 < rows.size(); i += 4) {
-    // Order within a (case, n) block: projected warm, projected cold, partition warm, cold.
-    std::printf("| %s | %d | %.1f | %.1f | %.1f | %.1f |\n", rows[i].name.c_str(), rows[i].n,
-                rows[i + 2].convolutions / rows[i].convolutions,
-                rows[i + 3].convolutions / rows[i + 1].convolutions, rows[i + 2].cpu / rows[i].cpu,
-                rows[i + 3].cpu / rows[i + 1].cpu);
+      "\nCPU time and convolutions per increment relative to the plain projected CG (same "
+      "run):\n\n| case | n | algorithm | start | convolution ratio | CPU time ratio |\n"
+      "|---|---|---|---|---|---|\n");
+  for (const Row& r : rows) {
+    const Row* base = find(rows, r, "projected", r.start);
+    if (!base || base == &r) continue;
+    std::printf("| %s | %d | %s | %s | %.2f | %.2f |\n", r.name.c_str(), r.n, r.algorithm.c_str(),
+                r.start.c_str(), r.convolutions / base->convolutions, r.cpu / base->cpu);
   }
   return 0;
 }
