@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <thread>
@@ -72,7 +73,10 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
   FftOptions fft;
   fft.threads = sc.solver.threads > 0 ? sc.solver.threads : default_threads(sc.grid);
   fft.measure = sc.solver.fft_measure;
+  fft.precision = sc.solver.fft_precision;
   m->half_space = std::make_unique<HalfSpace>(sc.grid, sc.material, sc.solver.coupling, fft);
+  // parse_scenario refuses these already; a Scenario built in code reaches this check.
+  m->half_space->require_tolerance(sc.solver.tolerance, "solver.tolerance");
   NormalOptions nopt{sc.solver.tolerance, sc.solver.max_iterations};
   m->normal = std::make_unique<NormalSolver>(*m->half_space, nopt);
   const auto dir = m->path.collinear_direction();
@@ -85,9 +89,13 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
     m->tangential = std::make_unique<PartitionSolver>(*m->tangential_operator, topt);
   else
     m->tangential = std::make_unique<ProjectedCgSolver>(*m->tangential_operator, topt);
+  // The stiffness solve's own floor of 1e-9 is raised to what float FFTs can reach: it is an
+  // internal accuracy choice, not the user's tolerance (which is at least that floor).
   if (sc.solver.stiffness)
     m->stiffness = std::make_unique<StiffnessSolver>(
-        *m->tangential_operator, std::max(sc.solver.tolerance, 1e-9), sc.solver.max_iterations);
+        *m->tangential_operator,
+        std::max({sc.solver.tolerance, 1e-9, m->half_space->min_tolerance()}),
+        sc.solver.max_iterations);
   m->wear = make_wear_model(sc.wear);
   return m;
 }
