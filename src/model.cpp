@@ -33,10 +33,11 @@ Field make_surface(const Scenario& sc) {
 }
 
 // Peak RSS measured on the Cattaneo scenario (analogy, one tangential component, fields
-// written) was 44 MB at n = 256, 120 MB at n = 512 and 427 MB at n = 1024: about 410 bytes
-// per cell at large n (the padded FFT buffers and spectra, ~210 bytes per cell, plus some
-// 25 surface fields). The estimate takes 600 bytes per cell (1.5x margin), 900 when two
-// tangential components or the Cerruti spectra are needed, plus 64 MiB for the program.
+// written) was 44 MB at n = 256, 120 MB at n = 512, 427 MB at n = 1024 and 1.75 GiB at
+// n = 2048: 410-450 bytes per cell at large n (the padded FFT buffers and spectra, ~210 bytes
+// per cell, plus some 25 surface fields); Cerruti at n = 512: 186 MiB. The estimate takes 600
+// bytes per cell (1.4x the 2048 run), 900 when two tangential components or the Cerruti
+// spectra are needed, plus 64 MiB for the program.
 double estimated_peak_bytes(const Scenario& sc) {
   const double cells = double(sc.grid.nx) * double(sc.grid.ny);
   const bool two = sc.solver.coupling == Coupling::cerruti || sc.load.direction != 0.0 ||
