@@ -18,7 +18,10 @@
 // convolutions per increment partition / projected. Prints Markdown.
 //
 // Usage: bench_tangential [--max-n N] [--min-n N] [--repeats R] [--threads T] [--tol X]
-//                         [--case cattaneo|rough|both]
+//                         [--case cattaneo|rough|both] [--algorithm projected|partition|both]
+//                         [--start warm|cold|both]
+// (--algorithm and --start select rows for large n, where all four cost too much; the ratio
+// table needs all four.)
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -41,12 +44,14 @@ struct Options {
   int min_n = 128, max_n = 512, repeats = 3, threads = 1;
   double tol = 1e-10;
   std::string cases = "both";
+  std::string algorithms = "both", starts = "both";
 };
 
 void usage(int status) {
   std::fprintf(status ? stderr : stdout,
                "usage: bench_tangential [--min-n N] [--max-n N] [--repeats R] [--threads T] "
-               "[--tol X] [--case cattaneo|rough|both]\n");
+               "[--tol X] [--case cattaneo|rough|both] [--algorithm projected|partition|both] "
+               "[--start warm|cold|both]\n");
   std::exit(status);
 }
 
@@ -66,6 +71,10 @@ Options parse(int argc, char** argv) {
       o.tol = std::atof(argv[++i]);
     else if (a == "--case" && i + 1 < argc)
       o.cases = argv[++i];
+    else if (a == "--algorithm" && i + 1 < argc)
+      o.algorithms = argv[++i];
+    else if (a == "--start" && i + 1 < argc)
+      o.starts = argv[++i];
     else if (a == "--help" || a == "-h")
       usage(0);
     else
@@ -228,6 +237,8 @@ int main(int argc, char** argv) {
                    100 * c->contact_fraction, c->normal_iterations, c->normal_convolutions);
       for (bool partition : {false, true})
         for (bool warm : {true, false}) {
+          if (o.algorithms != "both" && (o.algorithms == "partition") != partition) continue;
+          if (o.starts != "both" && (o.starts == "warm") != warm) continue;
           rows.push_back(measure(*c, partition, warm, o, conv));
           const Row& r = rows.back();
           std::fprintf(stderr, "  %s %s: %.1f it, %.1f conv, %.2f CPU ms per increment\n",
@@ -252,6 +263,7 @@ int main(int argc, char** argv) {
                 r.iterations, r.max_iterations, r.convolutions, 1e3 * r.seconds, 1e3 * r.cpu,
                 1e3 * per_it, per_it / r.conv_seconds);
   }
+  if (o.algorithms != "both" || o.starts != "both") return 0;
   std::printf(
       "\nConvolutions per increment, partition / projected (same run; time ratios from CPU "
       "time):\n\n"
