@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <thread>
@@ -32,10 +33,11 @@ Field make_surface(const Scenario& sc) {
 }
 
 // Peak RSS measured on the Cattaneo scenario (analogy, one tangential component, fields
-// written) was 44 MB at n = 256, 120 MB at n = 512 and 427 MB at n = 1024: about 410 bytes
-// per cell at large n (the padded FFT buffers and spectra, ~210 bytes per cell, plus some
-// 25 surface fields). The estimate takes 600 bytes per cell (1.5x margin), 900 when two
-// tangential components or the Cerruti spectra are needed, plus 64 MiB for the program.
+// written) was 44 MB at n = 256, 120 MB at n = 512, 427 MB at n = 1024 and 1.75 GiB at
+// n = 2048: 410-450 bytes per cell at large n (the padded FFT buffers and spectra, ~210 bytes
+// per cell, plus some 25 surface fields); Cerruti at n = 512: 186 MiB. The estimate takes 600
+// bytes per cell (1.4x the 2048 run), 900 when two tangential components or the Cerruti
+// spectra are needed, plus 64 MiB for the program.
 double estimated_peak_bytes(const Scenario& sc) {
   const double cells = double(sc.grid.nx) * double(sc.grid.ny);
   const bool two = sc.solver.coupling == Coupling::cerruti || sc.load.direction != 0.0 ||
@@ -72,7 +74,10 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
   FftOptions fft;
   fft.threads = sc.solver.threads > 0 ? sc.solver.threads : default_threads(sc.grid);
   fft.measure = sc.solver.fft_measure;
+  fft.precision = sc.solver.fft_precision;
   m->half_space = std::make_unique<HalfSpace>(sc.grid, sc.material, sc.solver.coupling, fft);
+  // parse_scenario refuses these already; a Scenario built in code reaches this check.
+  m->half_space->require_tolerance(sc.solver.tolerance, "solver.tolerance");
   NormalOptions nopt{sc.solver.tolerance, sc.solver.max_iterations};
   m->normal = std::make_unique<NormalSolver>(*m->half_space, nopt);
   const auto dir = m->path.collinear_direction();
@@ -85,9 +90,13 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
     m->tangential = std::make_unique<PartitionSolver>(*m->tangential_operator, topt);
   else
     m->tangential = std::make_unique<ProjectedCgSolver>(*m->tangential_operator, topt);
+  // The stiffness solve's own floor of 1e-9 is raised to what float FFTs can reach: it is an
+  // internal accuracy choice, not the user's tolerance (which is at least that floor).
   if (sc.solver.stiffness)
     m->stiffness = std::make_unique<StiffnessSolver>(
-        *m->tangential_operator, std::max(sc.solver.tolerance, 1e-9), sc.solver.max_iterations);
+        *m->tangential_operator,
+        std::max({sc.solver.tolerance, 1e-9, m->half_space->min_tolerance()}),
+        sc.solver.max_iterations);
   m->wear = make_wear_model(sc.wear);
   return m;
 }

@@ -10,7 +10,9 @@
 namespace fretbem {
 
 NormalSolver::NormalSolver(HalfSpace& half_space, NormalOptions options)
-    : hs_(half_space), opt_(options) {}
+    : hs_(half_space), opt_(options) {
+  hs_.require_tolerance(opt_.tolerance, "normal solver");
+}
 
 NormalResult NormalSolver::solve_force(const Field& z, double force, Field& p) {
   return solve(z, true, force, p);
@@ -21,8 +23,9 @@ NormalResult NormalSolver::solve_indentation(const Field& z, double delta, Field
   // drops the mean mode, so an approach does not fix the force there (measured: the force
   // returned by solve_force is not recovered). Force control only.
   if (hs_.grid().periodic)
-    throw InputError("indentation control is not defined on periodic grids (grid.periodic = "
-                     "true): use load.normal_force");
+    throw InputError(
+        "indentation control is not defined on periodic grids (grid.periodic = "
+        "true): use load.normal_force");
   return solve(z, false, delta, p);
 }
 

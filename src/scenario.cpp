@@ -69,6 +69,7 @@ const std::vector<std::string> kKeys = {
     "solver.algorithm",
     "solver.stiffness",
     "solver.fft_plan",
+    "solver.fft_precision",
     "solver.monotone",
     "output.dir",
     "output.fields",
@@ -253,7 +254,7 @@ class Reader {
       if (s == choices[i]) return i;
     std::string list;
     for (const auto& c : choices) list += (list.empty() ? "" : "|") + c;
-    fail_value(key, "is not one of " + list);
+    fail_value(key, "is not one of " + list + suggestion(s, choices));
   }
 
   /// Path resolved against base; optionally required to be an existing regular file.
@@ -503,6 +504,23 @@ void read_solver(const Reader& r, SolverSpec& s) {
     s.fft_measure = r.choice("solver.fft_plan", {"estimate", "measure"}) == 1;
   if (r.has("solver.monotone"))
     s.shortcut = r.choice("solver.monotone", {"incremental", "shortcut"}) == 1;
+  if (r.has("solver.fft_precision"))
+    s.fft_precision = r.choice("solver.fft_precision", {"double", "float"}) == 1
+                          ? FftPrecision::float32
+                          : FftPrecision::float64;
+  // Float convolutions put a round-off floor under every residual. Without an explicit
+  // tolerance the floor is the default (written to the resolved scenario); an explicit one
+  // below it is refused here, so `fretbem check` catches it and no solve stagnates to
+  // max_iterations first.
+  if (s.fft_precision == FftPrecision::float32) {
+    if (!r.has("solver.tolerance"))
+      s.tolerance = kFloatFftMinTolerance;
+    else if (s.tolerance < kFloatFftMinTolerance)
+      r.fail_value("solver.tolerance", "is below " + format_double(kFloatFftMinTolerance) +
+                                           ", the smallest tolerance float FFTs can reach "
+                                           "(solver.fft_precision = float): raise it or use "
+                                           "solver.fft_precision = double");
+  }
 }
 
 std::vector<std::string> read_fields(const Reader& r) {
@@ -651,6 +669,8 @@ void write_solver(IniWriter& w, const SolverSpec& s) {
         std::string(s.algorithm == TangentialAlgorithm::projected ? "projected" : "partition"));
   w.put("stiffness", s.stiffness);
   w.put("fft_plan", std::string(s.fft_measure ? "measure" : "estimate"));
+  w.put("fft_precision",
+        std::string(s.fft_precision == FftPrecision::float32 ? "float" : "double"));
   w.put("monotone", std::string(s.shortcut ? "shortcut" : "incremental"));
 }
 

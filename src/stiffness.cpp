@@ -8,7 +8,9 @@
 namespace fretbem {
 
 StiffnessSolver::StiffnessSolver(TangentialOperator& op, double tolerance, int max_iterations)
-    : op_(op), tol_(tolerance), max_it_(max_iterations) {}
+    : op_(op), tol_(tolerance), max_it_(max_iterations) {
+  op_.half_space().require_tolerance(tol_, "stiffness solver");
+}
 
 StiffnessResult StiffnessSolver::solve(const StateField& state) {
   const int nc = op_.components();

@@ -4,8 +4,9 @@
 Usage: tools/plot_bench.py RESULTS.csv [--out FILE.png] [--time cpu|wall]
 
 One panel per case (hertz, cattaneo, mindlin): every (n, tolerance) point, coloured by n with
-the tolerance as marker, and the Pareto front (the points no other point beats in both error
-and time) as a line. CPU time is the default axis: on a shared machine wall time includes
+the tolerance as marker (hollow: float FFTs, from the optional `fft` column; rows without it
+are double), and the Pareto front over all points (the points no other point beats in both
+error and time) as a line. CPU time is the default axis: on a shared machine wall time includes
 waiting for other processes.
 """
 import argparse
@@ -22,7 +23,9 @@ def read(path):
     rows = []
     with open(path) as f:
         for r in csv.DictReader(line for line in f if not line.startswith("#")):
-            rows.append({k: (v if k == "case" else float(v)) for k, v in r.items()})
+            row = {k: (v if k in ("case", "fft") else float(v)) for k, v in r.items()}
+            row.setdefault("fft", "double")
+            rows.append(row)
     return rows
 
 
@@ -57,8 +60,10 @@ def main():
     for ax, case in zip(axes[0], cases):
         sub = [r for r in rows if r["case"] == case]
         for r in sub:
+            colour = cmap(ns.index(int(r["n"])) / max(1, len(ns) - 1))
             ax.loglog(r[key], max(r["error"], 1e-16), markers[tols.index(r["tol"]) % 7],
-                      color=cmap(ns.index(int(r["n"])) / max(1, len(ns) - 1)), ms=6, alpha=0.85)
+                      color=colour, ms=6, alpha=0.85,
+                      mfc="none" if r["fft"] == "float" else colour)
         front = pareto([(r[key], max(r["error"], 1e-16)) for r in sub])
         ax.loglog(*zip(*front), "k-", lw=1, label="Pareto front")
         ax.set_title(labels[case])
@@ -69,6 +74,8 @@ def main():
         axes[0][0].plot([], [], "s", color=cmap(i / max(1, len(ns) - 1)), label=f"n = {n}")
     for j, t in enumerate(tols):
         axes[0][0].plot([], [], markers[j % 7], color="gray", label=f"tol = {t:.0e}")
+    if any(r["fft"] == "float" for r in rows):
+        axes[0][0].plot([], [], "o", color="gray", mfc="none", label="float FFTs")
     axes[0][0].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(a.out, dpi=120)

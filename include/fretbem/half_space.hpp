@@ -19,10 +19,21 @@ enum class Coupling {
   cerruti   ///< full Cerruti cell coefficients, with the x-y cross terms
 };
 
-/// FFT settings: worker threads and FFTW planner rigour.
+/// Arithmetic of the FFT convolutions. Fields, kernels (built in double) and sparse updates
+/// stay double either way; float32 runs the transforms and the spectrum product in single
+/// precision (fftwf), which bounds the residual a solver can reach (kFloatFftMinTolerance).
+enum class FftPrecision { float64, float32 };
+
+/// Smallest solver tolerance (relative residual) accepted with float32 convolutions. The
+/// solvers' residuals stagnate near the convolution's own relative error (~1e-7, measured in
+/// docs/performance.md "Float FFTs"); 1e-6 keeps a margin of about ten at every n measured.
+inline constexpr double kFloatFftMinTolerance = 1e-6;
+
+/// FFT settings: worker threads, FFTW planner rigour and arithmetic.
 struct FftOptions {
   int threads = 1;
   bool measure = false;  ///< FFTW_MEASURE (faster transforms, slower set-up) instead of ESTIMATE
+  FftPrecision precision = FftPrecision::float64;
 };
 
 class HalfSpace {
@@ -34,6 +45,14 @@ class HalfSpace {
 
   const Grid& grid() const { return grid_; }
   Coupling coupling() const { return coupling_; }
+  FftPrecision precision() const { return precision_; }
+
+  /// Smallest relative residual a solver on this operator is allowed to ask for: 0 in double,
+  /// kFloatFftMinTolerance in float32 (below it the iterations stagnate on round-off).
+  double min_tolerance() const;
+  /// Throws InputError naming `solver` when `tolerance` < min_tolerance(): an unreachable
+  /// tolerance fails at once instead of iterating to max_iterations on round-off.
+  void require_tolerance(double tolerance, const char* solver) const;
 
   /// Normal displacement u_z = K_z * p (m) of pressure p (Pa).
   void normal(const Field& p, Field& uz);
@@ -83,6 +102,7 @@ class HalfSpace {
 
   Grid grid_;
   Coupling coupling_;
+  FftPrecision precision_;
   std::unique_ptr<Fft> fft_;
   Eigen::ArrayXXd kz_space_;  ///< normal real-space kernel on the padded grid (m/Pa)
   double self_ = 0.0;

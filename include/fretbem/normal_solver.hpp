@@ -35,6 +35,7 @@ struct NormalResult {
 
 class NormalSolver {
  public:
+  /// Throws InputError when options.tolerance is below half_space.min_tolerance() (float FFTs).
   NormalSolver(HalfSpace& half_space, NormalOptions options = {});
 
   /// Force control: pressure p >= 0 (Pa) with sum p h^2 = force. p on entry is the warm start

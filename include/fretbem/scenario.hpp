@@ -59,6 +59,9 @@ struct SolverSpec {
   TangentialAlgorithm algorithm = TangentialAlgorithm::projected;
   bool stiffness = true;     ///< compute the exact differential stiffness kx every step
   bool fft_measure = false;  ///< FFTW_MEASURE plans
+  /// float32: single-precision convolutions (opt-in; the default tolerance is then
+  /// kFloatFftMinTolerance and smaller ones are refused).
+  FftPrecision fft_precision = FftPrecision::float64;
   /// Virgin monotone segments at constant normal load by the Ciavarella–Jäger superposition
   /// (analogy, collinear paths) instead of incremental solves.
   bool shortcut = false;

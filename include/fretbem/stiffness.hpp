@@ -16,6 +16,7 @@ struct StiffnessResult {
 
 class StiffnessSolver {
  public:
+  /// Throws InputError when tolerance is below the operator's min_tolerance() (float FFTs).
   StiffnessSolver(TangentialOperator& op, double tolerance, int max_iterations);
   /// Solves C psi = e_x on the stick nodes of `state` (psi = 0 elsewhere), warm-started from
   /// the previous solution; k_x = sum psi_x h^2. Throws SolverError when not converged.

@@ -13,17 +13,21 @@
 //             |W / W_MD - 1| of the energy dissipated in the second (steady) cycle,
 //             W_MD = (24/5) mu P u* [1 - (1-q)^(5/3) - (5q/6)(1 + (1-q)^(2/3))] (Johnson
 //             §7.5, Mindlin & Deresiewicz 1953); second metric: the loop area's error.
+// Series: double FFTs at every tolerance; float FFTs (solver.fft_precision = float) at the
+// tolerances they accept (>= kFloatFftMinTolerance), in the same run.
 // Time: median over repeats of the wall (and CPU) time of Stepper::run, the model (kernels,
 // plans, surface) built outside the timed region. Prints CSV on stdout:
-//   case,n,tol,wall_s,cpu_s,iterations,convolutions,error,error2
+//   case,n,tol,wall_s,cpu_s,iterations,convolutions,error,error2,fft
 // Usage: bench_accuracy_vs_time [--min-n N] [--max-n N] [--repeats R] [--large-repeats R]
-//                               [--case hertz|cattaneo|mindlin|all]
+//                               [--case hertz|cattaneo|mindlin|all] [--fft double|float|both]
+//                               [--tols T1,T2,...]
 #include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench_util.hpp"
@@ -38,13 +42,18 @@ struct Options {
   int min_n = 32, max_n = 512, repeats = 3, large_repeats = 1;
   std::string cases = "all";
   std::vector<double> tols{1e-4, 1e-6, 1e-8, 1e-10, 1e-12};
+  std::vector<std::string> ffts{"double", "float"};
 };
 
 void usage(int status) {
   std::fprintf(status ? stderr : stdout,
                "usage: bench_accuracy_vs_time [--min-n N] [--max-n N] [--repeats R] "
-               "[--large-repeats R] [--case hertz|cattaneo|mindlin|all]\n"
-               "  --large-repeats R   repeats for n >= 512 (default 1)\n");
+               "[--large-repeats R] [--case hertz|cattaneo|mindlin|all] "
+               "[--fft double|float|both] [--tols T1,T2,...]\n"
+               "  --large-repeats R   repeats for n >= 512 (default 1)\n"
+               "  --fft P             FFT precision series (default both; float skips "
+               "tolerances below its floor)\n"
+               "  --tols LIST         solver tolerances (default 1e-4,1e-6,1e-8,1e-10,1e-12)\n");
   std::exit(status);
 }
 
@@ -62,7 +71,22 @@ Options parse(int argc, char** argv) {
       o.large_repeats = bench::int_arg(argc, argv, i, 1, 1000, usage);
     else if (a == "--case" && i + 1 < argc)
       o.cases = argv[++i];
-    else if (a == "--help" || a == "-h")
+    else if (a == "--fft" && i + 1 < argc) {
+      const std::string f = argv[++i];
+      if (f != "double" && f != "float" && f != "both") usage(2);
+      o.ffts =
+          f == "both" ? std::vector<std::string>{"double", "float"} : std::vector<std::string>{f};
+    } else if (a == "--tols" && i + 1 < argc) {
+      o.tols.clear();
+      std::stringstream list(argv[++i]);
+      for (std::string t; std::getline(list, t, ',');) {
+        char* end = nullptr;
+        const double v = std::strtod(t.c_str(), &end);
+        if (end == t.c_str() || *end != '\0' || !(v > 0 && v < 1e-2)) usage(2);
+        o.tols.push_back(v);
+      }
+      if (o.tols.empty()) usage(2);
+    } else if (a == "--help" || a == "-h")
       usage(0);
     else
       usage(2);
@@ -86,7 +110,7 @@ double ustar() {
   return kMu * kDelta * m.E_star() / m.G_star();
 }
 
-std::string scenario_text(const std::string& name, int n, double tol) {
+std::string scenario_text(const std::string& name, int n, double tol, const std::string& fft) {
   std::ostringstream s;
   s.precision(17);
   s << "[material]\nE = " << kE << "\nnu = " << kNu << "\nmu = " << kMu << "\n[grid]\nn = " << n
@@ -98,7 +122,8 @@ std::string scenario_text(const std::string& name, int n, double tol) {
   else
     s << "normal_force = " << hertz_force() << "\npath = sine\namplitude = " << kQ
       << "\ncycles = 2\nsteps_per_cycle = 16\n";
-  s << "[solver]\ntolerance = " << tol << "\nthreads = 1\nstiffness = false\n";
+  s << "[solver]\ntolerance = " << tol
+    << "\nthreads = 1\nstiffness = false\nfft_precision = " << fft << "\n";
   return s.str();
 }
 
@@ -150,16 +175,22 @@ Errors score(const std::string& name, const std::vector<StepRecord>& rows) {
 int main(int argc, char** argv) {
   const Options o = parse(argc, argv);
   std::printf("# load average %.1f at start (2 cores)\n", bench::load_average());
-  std::printf("case,n,tol,wall_s,cpu_s,iterations,convolutions,error,error2\n");
+  std::printf("case,n,tol,wall_s,cpu_s,iterations,convolutions,error,error2,fft\n");
+  // (precision, tolerance) pairs; float skips the tolerances below its round-off floor, which
+  // the scenario would refuse.
+  std::vector<std::pair<std::string, double>> series;
+  for (const std::string& fft : o.ffts)
+    for (const double tol : o.tols)
+      if (fft == "double" || tol >= kFloatFftMinTolerance) series.emplace_back(fft, tol);
   for (int n = o.min_n; n <= o.max_n; n *= 2) {
     for (const std::string name : {"hertz", "cattaneo", "mindlin"}) {
       if (o.cases != "all" && o.cases != name) continue;
-      for (const double tol : o.tols) {
+      for (const auto& [fft, tol] : series) {
         std::vector<double> wall, cpu;
         Errors e;
         const int reps = n >= 512 ? o.large_repeats : o.repeats;
         for (int r = 0; r < reps; ++r) {
-          const Scenario sc = parse_scenario(scenario_text(name, n, tol), name,
+          const Scenario sc = parse_scenario(scenario_text(name, n, tol, fft), name,
                                              std::filesystem::temp_directory_path());
           auto model = build_model(sc);
           Stepper stepper(*model);
@@ -171,9 +202,9 @@ int main(int argc, char** argv) {
           wall.push_back(bench::seconds_since(t0));
           e = score(name, c.rows);
         }
-        std::printf("%s,%d,%.0e,%.6g,%.6g,%ld,%ld,%.6e,%.6e\n", name.c_str(), n, tol,
+        std::printf("%s,%d,%.0e,%.6g,%.6g,%ld,%ld,%.6e,%.6e,%s\n", name.c_str(), n, tol,
                     bench::median(wall), bench::median(cpu), e.iterations, e.convolutions, e.error,
-                    e.error2);
+                    e.error2, fft.c_str());
         std::fflush(stdout);
       }
     }

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -76,6 +77,28 @@ inline int int_arg(int argc, char** argv, int& i, int lo, int hi, void (*usage)(
   const long v = std::strtol(argv[++i], &end, 10);
   if (*end != '\0' || v < lo || v > hi) usage(2);
   return int(v);
+}
+
+/// One integer option of a benchmark: its flag, where the value goes, and its range.
+struct IntOption {
+  const char* flag;
+  int* value;
+  int lo, hi;
+};
+
+/// Parses a command line of integer options only; --help/-h exit(0) with the usage, anything
+/// else exit(2) with it.
+inline void parse_int_options(int argc, char** argv, std::initializer_list<IntOption> options,
+                              void (*usage)(int)) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") usage(0);
+    const IntOption* hit = nullptr;
+    for (const IntOption& o : options)
+      if (a == o.flag) hit = &o;
+    if (!hit) usage(2);
+    *hit->value = int_arg(argc, argv, i, hit->lo, hit->hi, usage);
+  }
 }
 
 }  // namespace bench
