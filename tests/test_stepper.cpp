@@ -198,7 +198,8 @@ TEST(Paths, DirectionAngleRotatesTheResponse) {
 // A table with a varying normal force and a two-dimensional tangential path (full 2-D
 // solver) runs, respects |tau| <= mu p and hits every row.
 TEST(Paths, TableWithVaryingNormalLoadAndTwoDimensionalPath) {
-  const fs::path table = fs::temp_directory_path() / "fretbem_test_table.csv";
+  const fs::path table =
+      fs::temp_directory_path() / ("fretbem_test_table_" + std::to_string(::getpid()) + ".csv");
   std::ofstream(table) << "time,Fz,Fx,Fy\n0,0.015,0,0\n1,0.02,0.003,0\n2,0.02,0.003,0.003\n"
                           "3,0.012,-0.002,0.001\n4,0.012,0,0\n";
   const Recorder r = run(sphere_scenario(48, "path = table\ntable = " + table.string()));
@@ -249,7 +250,9 @@ void expect_same_run(const fs::path& a, const fs::path& b) {
 }
 
 fs::path scenario_file(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / ("fretbem_" + name);
+  // Per process: worktrees and parallel ctest runs on one machine must not share a directory.
+  const fs::path dir =
+      fs::temp_directory_path() / ("fretbem_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "s.ini") << text;
