@@ -61,7 +61,7 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
   hs_.normal(p, u_);
   const double area = grid.cell_area();
   double g_old = 1.0, delta = force_control ? 0.0 : target;
-  bool restart = true, verified = false;
+  bool restart = true, verified = false, cold = false;
   std::vector<std::int64_t> idx;
   std::vector<double> val;
   t_ = grid.zeros();
@@ -90,7 +90,17 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
     double rbar = 0.0;
     if (force_control) rbar = (S * r_).sum() / std::max(1.0, S.sum());
     const double denom = (S * (r_ - rbar) * t_).sum();
-    if (!(denom > 0.0)) break;  // no descent left at round-off level
+    if (!(denom > 0.0)) {
+      // No descent on S. At round-off level that is the end; far from it, the warm start's
+      // contact set was wrong in a way the iteration cannot leave (e.g. one node, where the
+      // mean-free gap on S vanishes): restart once from the cold guess.
+      if (cold || res.residual < 1e3 * opt_.tolerance) break;
+      cold = true, restart = true;
+      p = Field();
+      initial_guess(force_control, target, p);
+      hs_.normal(p, u_);
+      continue;
+    }
     const double tau = (S * g_ * t_).sum() / denom;
     // p <- p - tau t, u <- u - tau K t; then projection p >= 0 and re-entry of penetrating
     // nodes, whose (sparse) displacement change is added separately.

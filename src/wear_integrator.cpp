@@ -136,7 +136,9 @@ int wear_rhs(realtype N, N_Vector y, N_Vector ydot, void* user) {
   auto& d = *static_cast<OdeData*>(user);
   try {
     const Grid& g = d.model.scenario.grid;
-    const Field W = Eigen::Map<const Field>(N_VGetArrayPointer(y), g.nx, g.ny);
+    // Worn depth is never negative; an implicit method's Newton iterates may overshoot below
+    // zero (material added), which would raise a node above the unworn surface.
+    const Field W = Eigen::Map<const Field>(N_VGetArrayPointer(y), g.nx, g.ny).max(0.0);
     WearCycle c = d.cyc.steady(N, W);
     Eigen::Map<Field>(N_VGetArrayPointer(ydot), g.nx, g.ny) = c.rate;
     if (d.pre && !d.probing) {

@@ -228,6 +228,23 @@ TEST(NormalSolverContract, WarmStartNeedsFewerIterations) {
   EXPECT_LE(rsd.iterations, 1);
 }
 
+// A warm start whose contact set the iteration cannot leave — all the force on one node far
+// from the contact, where the gap on S is mean-free, hence zero, and the CG direction vanishes —
+// still reaches the cold solution (the wear integrator's Newton iterates produced such starts).
+TEST(NormalSolverContract, DegenerateWarmStartReachesTheSolution) {
+  const Grid grid = Grid::square(64, kL);
+  const Hertz hz = hertz_for(kSteel);
+  HalfSpace hs(grid, kSteel, Coupling::analogy);
+  NormalSolver solver(hs, {1e-10, 2000, Precondition::off});
+  const Field z = sphere_surface(grid, kR);
+  Field cold, warm = grid.zeros();
+  solver.solve_force(z, hz.force(), cold);
+  warm(0, 0) = hz.force() / grid.cell_area();
+  const NormalResult r = solver.solve_force(z, hz.force(), warm);
+  EXPECT_TRUE(r.converged);
+  EXPECT_LE((warm - cold).abs().maxCoeff(), 1e-6 * cold.maxCoeff());
+}
+
 TEST(NormalSolverContract, ReportsIterationsResidualAndThrowsWhenNotConverged) {
   const Grid grid = Grid::square(64, kL);
   const Hertz hz = hertz_for(kSteel);
