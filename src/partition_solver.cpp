@@ -73,7 +73,9 @@ int repartition(const TangentialIncrement& inc, const VecField& u, Field& stick,
 }  // namespace
 
 PartitionSolver::PartitionSolver(TangentialOperator& op, TangentialOptions opt)
-    : op_(op), opt_(opt), cache_(std::make_unique<ScaleCache>()) {}
+    : op_(op), opt_(opt), cache_(std::make_unique<ScaleCache>()) {
+  op_.half_space().require_tolerance(opt_.tolerance, "tangential solver");
+}
 
 PartitionSolver::~PartitionSolver() = default;
 

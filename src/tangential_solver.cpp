@@ -20,7 +20,9 @@ double coulomb_residual(const Grid& grid, const TangentialIncrement& inc, const 
 }
 
 ProjectedCgSolver::ProjectedCgSolver(TangentialOperator& op, TangentialOptions opt)
-    : op_(op), opt_(opt), cache_(std::make_unique<ScaleCache>()) {}
+    : op_(op), opt_(opt), cache_(std::make_unique<ScaleCache>()) {
+  op_.half_space().require_tolerance(opt_.tolerance, "tangential solver");
+}
 
 ProjectedCgSolver::~ProjectedCgSolver() = default;
 

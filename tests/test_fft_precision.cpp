@@ -133,6 +133,12 @@ TEST(FftPrecision, UnreachableToleranceFailsAtOnce) {
   TangentialOperator op(hf);
   EXPECT_THROW(StiffnessSolver(op, 1e-9, 100), InputError);
   EXPECT_NO_THROW(StiffnessSolver(op, 1e-6, 100));
+  TangentialOptions tight, loose;
+  tight.tolerance = 1e-8, loose.tolerance = 1e-6;
+  EXPECT_THROW(ProjectedCgSolver(op, tight), InputError);
+  EXPECT_THROW(PartitionSolver(op, tight), InputError);
+  EXPECT_NO_THROW(ProjectedCgSolver(op, loose));
+  EXPECT_NO_THROW(PartitionSolver(op, loose));
 }
 
 const std::string kHertz = R"(

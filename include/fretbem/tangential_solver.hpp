@@ -66,6 +66,7 @@ class TangentialSolver {
 /// plus one per component when preconditioned.
 class ProjectedCgSolver final : public TangentialSolver {
  public:
+  /// Throws InputError when opt.tolerance is below the operator's min_tolerance() (float FFTs).
   ProjectedCgSolver(TangentialOperator& op, TangentialOptions opt);
   ~ProjectedCgSolver() override;
   TangentialResult solve(const TangentialIncrement& inc, VecField& tau, VecField& u) override;
@@ -91,6 +92,7 @@ class ProjectedCgSolver final : public TangentialSolver {
 /// move violators across, repeat. The baseline the projected method is measured against.
 class PartitionSolver final : public TangentialSolver {
  public:
+  /// Throws InputError when opt.tolerance is below the operator's min_tolerance() (float FFTs).
   PartitionSolver(TangentialOperator& op, TangentialOptions opt);
   ~PartitionSolver() override;
   TangentialResult solve(const TangentialIncrement& inc, VecField& tau, VecField& u) override;
