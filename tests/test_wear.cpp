@@ -181,15 +181,25 @@ TEST(WearIntegrators, ArkodeMatchesCycleByCycle) {
   WearRun ref = run(partial_slip(n, k, 500, "cycle"));
   const double wmax = ref.rep.worn.maxCoeff();
   ASSERT_GT(wmax, 0.0);
-  for (const char* integ : {"erk", "dirk"}) {
-    WearRun r = run(partial_slip(n, k, 500, integ));
+  // The Jacobian-free Newton–Krylov variant is checked for accuracy only: it needs more
+  // simulated cycles than the reference here (docs/wear.md).
+  struct Case {
+    const char* name;
+    const char* integrator;
+    bool fewer_cycles;
+  };
+  for (const Case& cs : {Case{"erk", "erk", true}, Case{"dirk", "dirk", true},
+                         Case{"dirk krylov", "dirk\nnewton = krylov", false}}) {
+    WearRun r = run(partial_slip(n, k, 500, cs.integrator));
     const double err = (r.rep.worn - ref.rep.worn).abs().maxCoeff() / wmax;
     std::printf(
         "[ integrators ] %s: %g simulated cycles for 500 (reference 501), max profile "
         "difference %.3g of max depth\n",
-        integ, r.rep.simulated_cycles, err);
-    EXPECT_LT(err, 0.02) << integ;
-    EXPECT_LT(r.rep.simulated_cycles, 0.5 * 501) << integ;
+        cs.name, r.rep.simulated_cycles, err);
+    EXPECT_LT(err, 0.02) << cs.name;
+    if (cs.fewer_cycles) {
+      EXPECT_LT(r.rep.simulated_cycles, 0.5 * 501) << cs.name;
+    }
   }
 }
 
