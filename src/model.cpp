@@ -78,7 +78,7 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
   m->half_space = std::make_unique<HalfSpace>(sc.grid, sc.material, sc.solver.coupling, fft);
   // parse_scenario refuses these already; a Scenario built in code reaches this check.
   m->half_space->require_tolerance(sc.solver.tolerance, "solver.tolerance");
-  NormalOptions nopt{sc.solver.tolerance, sc.solver.max_iterations};
+  NormalOptions nopt{sc.solver.tolerance, sc.solver.max_iterations, sc.solver.precondition};
   m->normal = std::make_unique<NormalSolver>(*m->half_space, nopt);
   const auto dir = m->path.collinear_direction();
   if (sc.solver.coupling == Coupling::analogy && dir)
@@ -86,6 +86,7 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
   else
     m->tangential_operator = std::make_unique<TangentialOperator>(*m->half_space);
   TangentialOptions topt{sc.solver.tolerance, sc.solver.max_iterations};
+  topt.precondition = sc.solver.precondition;
   if (sc.solver.algorithm == TangentialAlgorithm::partition)
     m->tangential = std::make_unique<PartitionSolver>(*m->tangential_operator, topt);
   else

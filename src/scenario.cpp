@@ -70,6 +70,7 @@ const std::vector<std::string> kKeys = {
     "solver.stiffness",
     "solver.fft_plan",
     "solver.fft_precision",
+    "solver.precondition",
     "solver.monotone",
     "output.dir",
     "output.fields",
@@ -504,6 +505,11 @@ void read_solver(const Reader& r, SolverSpec& s) {
     s.fft_measure = r.choice("solver.fft_plan", {"estimate", "measure"}) == 1;
   if (r.has("solver.monotone"))
     s.shortcut = r.choice("solver.monotone", {"incremental", "shortcut"}) == 1;
+  if (r.has("solver.precondition")) {
+    static constexpr Precondition kinds[] = {Precondition::automatic, Precondition::on,
+                                             Precondition::off};
+    s.precondition = kinds[r.choice("solver.precondition", {"automatic", "on", "off"})];
+  }
   if (r.has("solver.fft_precision"))
     s.fft_precision = r.choice("solver.fft_precision", {"double", "float"}) == 1
                           ? FftPrecision::float32
@@ -672,6 +678,9 @@ void write_solver(IniWriter& w, const SolverSpec& s) {
   w.put("fft_precision",
         std::string(s.fft_precision == FftPrecision::float32 ? "float" : "double"));
   w.put("monotone", std::string(s.shortcut ? "shortcut" : "incremental"));
+  w.put("precondition", std::string(s.precondition == Precondition::automatic ? "automatic"
+                                    : s.precondition == Precondition::on      ? "on"
+                                                                              : "off"));
 }
 
 void write_output(IniWriter& w, const OutputSpec& o) {

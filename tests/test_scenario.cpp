@@ -183,6 +183,12 @@ TEST(Scenario, OverridesWinAndAddKeys) {
   EXPECT_DOUBLE_EQ(s.material.mu, 0.25);
   EXPECT_TRUE(s.grid.periodic);
   EXPECT_TRUE(s.solver.fft_measure);
+  EXPECT_EQ(s.solver.precondition, fretbem::Precondition::automatic);
+  EXPECT_EQ(parse(kGood, {"solver.precondition=off"}).solver.precondition, fretbem::Precondition::off);
+  const Scenario on = parse(kGood, {"solver.precondition=on"});
+  EXPECT_EQ(on.solver.precondition, fretbem::Precondition::on);
+  EXPECT_EQ(parse(on.resolved_text).solver.precondition, fretbem::Precondition::on);
+  EXPECT_HAS(error_of(kGood, {"solver.precondition=maybe"}), "solver.precondition");
 }
 
 TEST(Scenario, ResolvedTextReproducesTheScenario) {

@@ -10,6 +10,7 @@
 #include "fretbem/grid.hpp"
 #include "fretbem/half_space.hpp"
 #include "fretbem/material.hpp"
+#include "fretbem/normal_solver.hpp"
 #include "fretbem/surface.hpp"
 
 namespace fretbem {
@@ -65,6 +66,9 @@ struct SolverSpec {
   /// Virgin monotone segments at constant normal load by the Ciavarella–Jäger superposition
   /// (analogy, collinear paths) instead of incremental solves.
   bool shortcut = false;
+  /// Fourier preconditioning of the normal CG and the tangential projected CG; automatic: the
+  /// measured rules (normal: from 256 x 256 cells; tangential: contact patch >= 2048 nodes).
+  Precondition precondition = Precondition::automatic;
 };
 
 struct OutputSpec {
