@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_util.hpp"
 #include "fretbem/grid.hpp"
 #include "fretbem/half_space.hpp"
 #include "fretbem/material.hpp"
@@ -25,36 +26,12 @@
 #include "fretbem/surface.hpp"
 
 using namespace fretbem;
-using Clock = std::chrono::steady_clock;
+using bench::Clock;
+using bench::median;
+using bench::seconds_since;
+using bench::time_per_call;
 
 namespace {
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
-
-// Median over `repeats` of the mean time of one call in a batch long enough (>= ~20 ms) that
-// clock resolution and loop overhead do not matter.
-template <class F>
-double time_per_call(F&& f, int repeats) {
-  const auto t0 = Clock::now();
-  f();  // warm-up: first touch of buffers, instruction cache
-  const double once = std::max(seconds_since(t0), 1e-7);
-  const int batch = std::max(1, int(0.02 / once));
-  std::vector<double> t;
-  for (int r = 0; r < repeats; ++r) {
-    const auto t1 = Clock::now();
-    for (int b = 0; b < batch; ++b) f();
-    t.push_back(seconds_since(t1) / batch);
-  }
-  return median(t);
-}
 
 struct Options {
   int max_n = 1024;
