@@ -32,21 +32,12 @@ void usage(int status) {
 
 Options parse(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--min-n")
-      o.min_n = bench::int_arg(argc, argv, i, 8, 1 << 14, usage);
-    else if (a == "--max-n")
-      o.max_n = bench::int_arg(argc, argv, i, 8, 1 << 14, usage);
-    else if (a == "--repeats")
-      o.repeats = bench::int_arg(argc, argv, i, 1, 1000, usage);
-    else if (a == "--large-repeats")
-      o.large_repeats = bench::int_arg(argc, argv, i, 1, 1000, usage);
-    else if (a == "--help" || a == "-h")
-      usage(0);
-    else
-      usage(2);
-  }
+  bench::parse_int_options(argc, argv,
+                           {{"--min-n", &o.min_n, 8, 1 << 14},
+                            {"--max-n", &o.max_n, 8, 1 << 14},
+                            {"--repeats", &o.repeats, 1, 1000},
+                            {"--large-repeats", &o.large_repeats, 1, 1000}},
+                           usage);
   return o;
 }
 
