@@ -159,28 +159,35 @@ int wear_rhs(realtype N, N_Vector y, N_Vector ydot, void* user) {
 
 void silent(int, const char*, const char*, char*, void*) {}
 
-// Newton matrix P = I - gamma J linearised at the last evaluated iterate (frozen slip).
-int wear_psetup(realtype, N_Vector, N_Vector, booleantype, booleantype* jcur, realtype,
-                void* user) {
-  auto& d = *static_cast<OdeData*>(user);
-  d.pre->setup(d.base_pressure, d.base_rate);
-  *jcur = SUNTRUE;
-  return 0;
-}
-
-int wear_psolve(realtype, N_Vector, N_Vector, N_Vector r, N_Vector z, realtype gamma, realtype, int,
-                void* user) {
-  auto& d = *static_cast<OdeData*>(user);
+// x = P^-1 b, P = I - gamma J~ the frozen-slip Newton matrix, linearised at the latest
+// evaluated iterate (relinearised only when a new iterate has been evaluated since). Shared by
+// the Krylov preconditioner and the matrix-embedded linear solver. Exceptions are kept for
+// rethrow after ARKODE returns.
+int newton_matrix_solve(OdeData& d, N_Vector b, N_Vector x, double gamma) {
   try {
+    if (d.linearised_generation != d.base_generation) {
+      d.pre->setup(d.base_pressure, d.base_rate);
+      d.linearised_generation = d.base_generation;
+    }
     const Grid& g = d.model.scenario.grid;
-    Field x;
-    d.pre->solve(Eigen::Map<const Field>(N_VGetArrayPointer(r), g.nx, g.ny), gamma, x);
-    Eigen::Map<Field>(N_VGetArrayPointer(z), g.nx, g.ny) = x;
+    Field out;
+    d.pre->solve(Eigen::Map<const Field>(N_VGetArrayPointer(b), g.nx, g.ny), gamma, out);
+    Eigen::Map<Field>(N_VGetArrayPointer(x), g.nx, g.ny) = out;
     return 0;
   } catch (...) {
     d.error = std::current_exception();
     return -1;
   }
+}
+
+int wear_psetup(realtype, N_Vector, N_Vector, booleantype, booleantype* jcur, realtype, void*) {
+  *jcur = SUNTRUE;  // the matrix is relinearised in the solve, at the latest iterate
+  return 0;
+}
+
+int wear_psolve(realtype, N_Vector, N_Vector, N_Vector r, N_Vector z, realtype gamma, realtype, int,
+                void* user) {
+  return newton_matrix_solve(*static_cast<OdeData*>(user), r, z, gamma);
 }
 
 // J v by a forward difference of the wear map, [w(W + sigma v) - w(W)] / sigma, with sigma
@@ -213,39 +220,17 @@ int wear_jtimes(N_Vector v, N_Vector Jv, realtype N, N_Vector y, N_Vector fy, vo
 struct FrozenSlipContent {
   OdeData* data = nullptr;
   void* arkode = nullptr;
-  long solves = 0;
 };
 
 SUNLinearSolver_Type frozen_type(SUNLinearSolver) {
   return SUNLINEARSOLVER_MATRIX_EMBEDDED;
 }
 
-int frozen_setup(SUNLinearSolver S, SUNMatrix) {
-  auto& c = *static_cast<FrozenSlipContent*>(S->content);
-  c.data->pre->setup(c.data->base_pressure, c.data->base_rate);
-  return 0;
-}
-
 int frozen_solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, realtype) {
   auto& c = *static_cast<FrozenSlipContent*>(S->content);
-  OdeData& d = *c.data;
-  try {
-    realtype gamma = 0.0;
-    ARKStepGetCurrentGamma(c.arkode, &gamma);
-    const Grid& g = d.model.scenario.grid;
-    if (d.linearised_generation != d.base_generation) {
-      d.pre->setup(d.base_pressure, d.base_rate);
-      d.linearised_generation = d.base_generation;
-    }
-    Field out;
-    d.pre->solve(Eigen::Map<const Field>(N_VGetArrayPointer(b), g.nx, g.ny), gamma, out);
-    Eigen::Map<Field>(N_VGetArrayPointer(x), g.nx, g.ny) = out;
-    ++c.solves;
-    return 0;
-  } catch (...) {
-    d.error = std::current_exception();
-    return SUNLS_PSOLVE_FAIL_UNREC;
-  }
+  realtype gamma = 0.0;
+  ARKStepGetCurrentGamma(c.arkode, &gamma);
+  return newton_matrix_solve(*c.data, b, x, gamma) == 0 ? 0 : SUNLS_PSOLVE_FAIL_UNREC;
 }
 
 int frozen_free(SUNLinearSolver S) {
@@ -258,9 +243,8 @@ int frozen_free(SUNLinearSolver S) {
 SUNLinearSolver frozen_slip_solver(OdeData& d, void* arkode, SUNContext ctx) {
   SUNLinearSolver S = SUNLinSolNewEmpty(ctx);
   if (!S) throw SolverError("SUNDIALS: no linear solver");
-  S->content = new FrozenSlipContent{&d, arkode, 0};
+  S->content = new FrozenSlipContent{&d, arkode};
   S->ops->gettype = frozen_type;
-  S->ops->setup = frozen_setup;
   S->ops->solve = frozen_solve;
   S->ops->free = frozen_free;
   return S;

@@ -24,7 +24,7 @@ void WearPreconditioner::solve(const Field& b, double gamma, Field& x) {
     x = b;
     return;
   }
-  Field q;
+  Field& q = q_;
   cg(-(b * mask_), gamma, q);
   if (force_control_) {
     // The rigid approach d_delta keeps the normal force: sum q = 0 (superposition of the
@@ -41,12 +41,12 @@ void WearPreconditioner::solve(const Field& b, double gamma, Field& x) {
 // Jacobi-preconditioned CG for (C_A + gamma D) q = r on A. The operator is SPD on A: C is (the
 // Boussinesq influence matrix), gamma D >= 0.
 void WearPreconditioner::cg(const Field& r, double gamma, Field& q) {
-  const Field diag = mask_ * (hs_.normal_self() + gamma * d_) + (1.0 - mask_);
-  q = Field::Zero(r.rows(), r.cols());
+  diag_ = mask_ * (hs_.normal_self() + gamma * d_) + (1.0 - mask_);
+  q.setZero(r.rows(), r.cols());
   r_ = r * mask_;
   const double r0 = std::sqrt((r_ * r_).sum());
   if (r0 == 0.0) return;
-  z_ = r_ / diag;
+  z_ = r_ / diag_;
   s_ = z_;
   double rz = (r_ * z_).sum();
   for (int it = 0; it < 1000; ++it) {
@@ -57,7 +57,7 @@ void WearPreconditioner::cg(const Field& r, double gamma, Field& q) {
     r_ -= alpha * t_;
     ++iterations_;
     if (std::sqrt((r_ * r_).sum()) <= tol_ * r0) return;
-    z_ = r_ / diag;
+    z_ = r_ / diag_;
     const double rz_new = (r_ * z_).sum();
     s_ = z_ + (rz_new / rz) * s_;
     rz = rz_new;

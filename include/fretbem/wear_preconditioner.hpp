@@ -48,7 +48,7 @@ class WearPreconditioner {
   Field d_;               // wear per unit pressure, 0 off A
   double cached_gamma_ = -1.0;
   Field ones_solution_;  // (C_A + gamma D)^-1 1_A for cached_gamma_
-  Field r_, z_, s_, t_, u_;
+  Field q_, diag_, r_, z_, s_, t_, u_;  // work fields, kept between solves
   long iterations_ = 0;
 };
 
