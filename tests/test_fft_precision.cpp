@@ -12,14 +12,14 @@
 #include <random>
 #include <string>
 
-#include "fretbem/errors.hpp"
-#include "fretbem/half_space.hpp"
-#include "fretbem/model.hpp"
-#include "fretbem/normal_solver.hpp"
-#include "fretbem/scenario.hpp"
-#include "fretbem/stepper.hpp"
-#include "fretbem/stiffness.hpp"
-#include "fretbem/surface.hpp"
+#include "fretbem/core/errors.hpp"
+#include "fretbem/elastic/half_space.hpp"
+#include "fretbem/history/model.hpp"
+#include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/scenario/scenario.hpp"
+#include "fretbem/history/stepper.hpp"
+#include "fretbem/contact/stiffness.hpp"
+#include "fretbem/surface/surface.hpp"
 
 namespace fretbem {
 namespace {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "fretbem/errors.hpp"
-#include "fretbem/greenwood_williamson.hpp"
+#include "fretbem/core/errors.hpp"
+#include "fretbem/study/greenwood_williamson.hpp"
 
 using namespace fretbem;
 

@@ -1,6 +1,6 @@
 // Validation rung 1 (DESIGN §3): Love's cell coefficients and the FFT half-space operator.
 //
-// References used here are independent of src/love.cpp: 2-D numerical quadrature of the
+// References used here are independent of src/elastic/love.cpp: 2-D numerical quadrature of the
 // point-force Green's functions over a cell, direct O(n^4) summation, the point-force limits
 // of Boussinesq and Cerruti (Johnson, Contact Mechanics, eqs. 3.19a and 3.86a), and the
 // lattice sum of the periodic images.
@@ -15,10 +15,10 @@
 #include <random>
 #include <vector>
 
-#include "fretbem/grid.hpp"
-#include "fretbem/half_space.hpp"
-#include "fretbem/love.hpp"
-#include "fretbem/material.hpp"
+#include "fretbem/elastic/grid.hpp"
+#include "fretbem/elastic/half_space.hpp"
+#include "fretbem/elastic/love.hpp"
+#include "fretbem/elastic/material.hpp"
 
 namespace fretbem {
 namespace {

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "fretbem/errors.hpp"
+#include "fretbem/core/errors.hpp"
 #include "fretbem/io/csv_writer.hpp"
 #include "fretbem/io/hdf5_writer.hpp"
 

@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "fretbem/errors.hpp"
-#include "fretbem/grid.hpp"
-#include "fretbem/half_space.hpp"
-#include "fretbem/material.hpp"
-#include "fretbem/normal_solver.hpp"
-#include "fretbem/surface.hpp"
+#include "fretbem/core/errors.hpp"
+#include "fretbem/elastic/grid.hpp"
+#include "fretbem/elastic/half_space.hpp"
+#include "fretbem/elastic/material.hpp"
+#include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/surface/surface.hpp"
 
 namespace fretbem {
 namespace {

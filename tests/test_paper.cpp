@@ -11,7 +11,7 @@
 #include <sstream>
 #include <string>
 
-#include "fretbem/ensemble.hpp"
+#include "fretbem/study/ensemble.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "fretbem/normal_solver.hpp"
+#include "fretbem/contact/normal_solver.hpp"
 
 using namespace fretbem;
 

@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "fretbem/normal_solver.hpp"
-#include "fretbem/surface.hpp"
+#include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/surface/surface.hpp"
 
 using namespace fretbem;
 

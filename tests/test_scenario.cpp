@@ -7,8 +7,8 @@
 #include <random>
 #include <string>
 
-#include "fretbem/errors.hpp"
-#include "fretbem/scenario.hpp"
+#include "fretbem/core/errors.hpp"
+#include "fretbem/scenario/scenario.hpp"
 
 namespace fs = std::filesystem;
 using fretbem::InputError;

@@ -12,8 +12,8 @@
 #include <sstream>
 #include <thread>
 
-#include "fretbem/model.hpp"
-#include "fretbem/stepper.hpp"
+#include "fretbem/history/model.hpp"
+#include "fretbem/history/stepper.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;

@@ -10,12 +10,12 @@
 #include <iomanip>
 #include <sstream>
 
-#include "fretbem/errors.hpp"
-#include "fretbem/model.hpp"
-#include "fretbem/normal_solver.hpp"
-#include "fretbem/stepper.hpp"
-#include "fretbem/surface.hpp"
-#include "fretbem/tangential_solver.hpp"
+#include "fretbem/core/errors.hpp"
+#include "fretbem/history/model.hpp"
+#include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/history/stepper.hpp"
+#include "fretbem/surface/surface.hpp"
+#include "fretbem/contact/tangential_solver.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "fretbem/errors.hpp"
-#include "fretbem/surface.hpp"
+#include "fretbem/core/errors.hpp"
+#include "fretbem/surface/surface.hpp"
 
 namespace fs = std::filesystem;
 using namespace fretbem;

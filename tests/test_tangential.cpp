@@ -6,12 +6,12 @@
 #include <cstdio>
 #include <string>
 
-#include "fretbem/errors.hpp"
-#include "fretbem/monotone_shortcut.hpp"
-#include "fretbem/normal_solver.hpp"
-#include "fretbem/stiffness.hpp"
-#include "fretbem/surface.hpp"
-#include "fretbem/tangential_solver.hpp"
+#include "fretbem/core/errors.hpp"
+#include "fretbem/contact/monotone_shortcut.hpp"
+#include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/contact/stiffness.hpp"
+#include "fretbem/surface/surface.hpp"
+#include "fretbem/contact/tangential_solver.hpp"
 
 using namespace fretbem;
 

@@ -7,10 +7,10 @@
 #include <filesystem>
 #include <numbers>
 
-#include "fretbem/model.hpp"
-#include "fretbem/scenario.hpp"
-#include "fretbem/stepper.hpp"
-#include "fretbem/wear_integrator.hpp"
+#include "fretbem/history/model.hpp"
+#include "fretbem/scenario/scenario.hpp"
+#include "fretbem/history/stepper.hpp"
+#include "fretbem/wear/integrator.hpp"
 
 using namespace fretbem;
 

@@ -5,7 +5,7 @@
 #include <Eigen/Dense>
 #include <random>
 
-#include "fretbem/wear_preconditioner.hpp"
+#include "fretbem/wear/preconditioner.hpp"
 
 using namespace fretbem;
 

@@ -8,15 +8,15 @@
 #include <string>
 #include <vector>
 
-#include "fretbem/checkpoint.hpp"
-#include "fretbem/ensemble.hpp"
-#include "fretbem/errors.hpp"
-#include "fretbem/model.hpp"
-#include "fretbem/run_output.hpp"
-#include "fretbem/scenario.hpp"
-#include "fretbem/stepper.hpp"
-#include "fretbem/surface.hpp"
-#include "fretbem/wear_integrator.hpp"
+#include "fretbem/io/checkpoint.hpp"
+#include "fretbem/study/ensemble.hpp"
+#include "fretbem/core/errors.hpp"
+#include "fretbem/history/model.hpp"
+#include "fretbem/io/run_output.hpp"
+#include "fretbem/scenario/scenario.hpp"
+#include "fretbem/history/stepper.hpp"
+#include "fretbem/surface/surface.hpp"
+#include "fretbem/wear/integrator.hpp"
 
 namespace po = boost::program_options;
 using namespace fretbem;

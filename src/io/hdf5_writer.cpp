@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <system_error>
 
-#include "fretbem/errors.hpp"
+#include "fretbem/core/errors.hpp"
 
 namespace fretbem::io {
 

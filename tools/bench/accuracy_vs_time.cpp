@@ -31,8 +31,8 @@
 #include <vector>
 
 #include "bench_util.hpp"
-#include "fretbem/model.hpp"
-#include "fretbem/stepper.hpp"
+#include "fretbem/history/model.hpp"
+#include "fretbem/history/stepper.hpp"
 
 using namespace fretbem;
 

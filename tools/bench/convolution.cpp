@@ -19,11 +19,11 @@
 #include <vector>
 
 #include "bench_util.hpp"
-#include "fretbem/grid.hpp"
-#include "fretbem/half_space.hpp"
-#include "fretbem/material.hpp"
-#include "fretbem/normal_solver.hpp"
-#include "fretbem/surface.hpp"
+#include "fretbem/elastic/grid.hpp"
+#include "fretbem/elastic/half_space.hpp"
+#include "fretbem/elastic/material.hpp"
+#include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/surface/surface.hpp"
 
 using namespace fretbem;
 using bench::Clock;

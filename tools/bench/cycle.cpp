@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "fretbem/model.hpp"
-#include "fretbem/stepper.hpp"
+#include "fretbem/history/model.hpp"
+#include "fretbem/history/stepper.hpp"
 
 using namespace fretbem;
 using Clock = std::chrono::steady_clock;

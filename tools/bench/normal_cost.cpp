@@ -12,8 +12,8 @@
 #include <string>
 
 #include "bench_util.hpp"
-#include "fretbem/normal_solver.hpp"
-#include "fretbem/surface.hpp"
+#include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/surface/surface.hpp"
 
 using namespace fretbem;
 

@@ -31,9 +31,9 @@
 #include <string>
 
 #include "bench_util.hpp"
-#include "fretbem/normal_solver.hpp"
-#include "fretbem/surface.hpp"
-#include "fretbem/tangential_solver.hpp"
+#include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/surface/surface.hpp"
+#include "fretbem/contact/tangential_solver.hpp"
 
 using namespace fretbem;
 using bench::Clock;

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "fretbem/grid.hpp"
+#include "fretbem/elastic/grid.hpp"
 
 namespace fretbem::io {
 

@@ -1,0 +1,119 @@
+// TangentialSolver: one load increment of the frictional (Coulomb) tangential contact at fixed
+// pressure, as the strictly convex QP of DESIGN §1 "History":
+//   min_tau 1/2 (tau - tau0)^T C (tau - tau0) - (tau - tau0) . dU   s.t. |tau_i| <= g_i,
+// g_i = mu p_i. Its optimality conditions are Coulomb's law for the slip increment
+// s_i = dU - (u_i - u0_i): stick (s_i = 0, |tau_i| <= g_i) or slip (|tau_i| = g_i, tau_i || s_i).
+// Displacement control imposes dU; force control imposes sum tau h^2 = F and dU is the
+// multiplier.
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+
+#include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/contact/tangential_operator.hpp"
+
+namespace fretbem {
+
+namespace tangential_detail {
+class ScaleCache;
+}  // namespace tangential_detail
+
+enum class TangentialControl { displacement, force };
+
+struct TangentialOptions {
+  double tolerance = 1e-10;  ///< relative slip residual at which an increment stops
+  int max_iterations = 5000;
+  /// Fourier preconditioning of the projected CG's stick-set directions,
+  /// z = S K_z^-1 S s (S the stick set), as in the normal solver; see ProjectedCgSolver.
+  Precondition precondition = Precondition::automatic;
+};
+
+/// One increment: the state at the end of the previous step and the load of this one.
+struct TangentialIncrement {
+  const Field* bound = nullptr;    ///< g = mu p (Pa); 0 marks open nodes
+  const VecField* tau0 = nullptr;  ///< traction at the end of the previous step (Pa)
+  const VecField* u0 = nullptr;    ///< C tau0 (m)
+  TangentialControl control = TangentialControl::displacement;
+  Eigen::VectorXd target;  ///< dU (m) or total force F (N), operator components
+};
+
+/// Convergence report of one increment. residual: rms over contact nodes of the violation of
+/// Coulomb's law in displacement units (slip of stick nodes; slip not parallel to the traction
+/// at slip nodes), relative to the displacement scale |C g|.
+struct TangentialResult {
+  int iterations = 0;
+  double residual = 0.0;
+  bool converged = false;
+  int convolutions = 0;
+  Eigen::VectorXd shift;  ///< rigid shift increment dU (m)
+  Eigen::VectorXd force;  ///< total traction sum tau h^2 (N)
+};
+
+/// Interface of the incremental algorithms; both report iterations and residual and throw
+/// SolverError when an increment does not converge.
+class TangentialSolver {
+ public:
+  virtual ~TangentialSolver() = default;
+  /// Solves one increment; tau and u hold the warm start on entry (e.g. tau0, u0), the
+  /// solution on exit.
+  virtual TangentialResult solve(const TangentialIncrement& inc, VecField& tau, VecField& u) = 0;
+};
+
+/// Polonsky–Keer-type projected conjugate gradient: CG on the stick set, projection of
+/// tractions onto their Coulomb discs, Jacobi re-entry of slip nodes whose slip turned,
+/// conjugacy restarted whenever the stick set changes. About one convolution per iteration,
+/// plus one per component when preconditioned.
+class ProjectedCgSolver final : public TangentialSolver {
+ public:
+  /// Throws InputError when opt.tolerance is below the operator's min_tolerance() (float FFTs).
+  ProjectedCgSolver(TangentialOperator& op, TangentialOptions opt);
+  ~ProjectedCgSolver() override;
+  TangentialResult solve(const TangentialIncrement& inc, VecField& tau, VecField& u) override;
+  /// Whether solve() preconditions an increment with this bound (TangentialOptions::
+  /// precondition; automatic: on when the largest contact patch has kPatchNodes nodes or more).
+  bool preconditioned(const Field& bound) const;
+  /// Automatic preconditioning from this largest contact patch (a disc of radius ~25 cells).
+  static constexpr std::int64_t kPatchNodes = 2048;
+
+ private:
+  template <int NC>
+  TangentialResult solve_components(const TangentialIncrement& inc, VecField& tau, VecField& u);
+
+  TangentialOperator& op_;
+  TangentialOptions opt_;
+  VecField d_, q_, r_, z_;  // direction, its image C d; preconditioner input S s, output
+  // Displacement scale |C g|, reused while the bound is unchanged.
+  std::unique_ptr<tangential_detail::ScaleCache> cache_;
+};
+
+/// The paper's fixed-point partition iteration (Methods): fix the stick/slip partition, set
+/// slip tractions to the bound along the slip direction, solve the stick nodes exactly by CG,
+/// move violators across, repeat. The baseline the projected method is measured against.
+class PartitionSolver final : public TangentialSolver {
+ public:
+  /// Throws InputError when opt.tolerance is below the operator's min_tolerance() (float FFTs).
+  PartitionSolver(TangentialOperator& op, TangentialOptions opt);
+  ~PartitionSolver() override;
+  TangentialResult solve(const TangentialIncrement& inc, VecField& tau, VecField& u) override;
+
+ private:
+  TangentialOperator& op_;
+  TangentialOptions opt_;
+  std::unique_ptr<tangential_detail::ScaleCache> cache_;
+};
+
+/// Coulomb-law residual of a state (see TangentialResult::residual) and the slip increment s.
+/// Under force control dU is the mean of u - u0 over stick nodes.
+double coulomb_residual(const Grid& grid, const TangentialIncrement& inc, const VecField& tau,
+                        const VecField& u, double scale, Eigen::VectorXd& dU, VecField& s);
+
+/// Nodes of the largest 4-connected patch of contact nodes (bound > 0). Decides the automatic
+/// preconditioning of ProjectedCgSolver.
+std::int64_t largest_contact_patch(const Field& bound);
+
+/// Stick-node tolerance: a node with |tau| < g (1 - kBoundEps) is free to stick; slip nodes sit
+/// on the bound up to round-off because they are placed there by projection.
+inline constexpr double kBoundEps = 1e-12;
+
+}  // namespace fretbem

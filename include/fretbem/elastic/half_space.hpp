@@ -1,0 +1,114 @@
+// HalfSpace: the elastic half-space operator. Maps cell tractions (Pa) to surface
+// displacements (m) at the cell centres by FFT convolution with exact cell influence
+// coefficients (DESIGN §1). FFTW plans, work buffers and kernel spectra live here and are built
+// once per grid.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include "fretbem/elastic/grid.hpp"
+#include "fretbem/elastic/material.hpp"
+
+namespace fretbem {
+
+/// How tangential tractions load the surface.
+enum class Coupling {
+  analogy,  ///< Cattaneo–Mindlin analogy: u_t = (E*/G*) K_z * tau, componentwise (default)
+  cerruti   ///< full Cerruti cell coefficients, with the x-y cross terms
+};
+
+/// Arithmetic of the FFT convolutions. Fields, kernels (built in double) and sparse updates
+/// stay double either way; float32 runs the transforms and the spectrum product in single
+/// precision (fftwf), which bounds the residual a solver can reach (kFloatFftMinTolerance).
+enum class FftPrecision { float64, float32 };
+
+/// Smallest solver tolerance (relative residual) accepted with float32 convolutions. The
+/// solvers' residuals stagnate near the convolution's own relative error (~1e-7, measured in
+/// docs/performance.md "Float FFTs"); 1e-6 keeps a margin of about ten at every n measured.
+inline constexpr double kFloatFftMinTolerance = 1e-6;
+
+/// FFT settings: worker threads, FFTW planner rigour and arithmetic.
+struct FftOptions {
+  int threads = 1;
+  bool measure = false;  ///< FFTW_MEASURE (faster transforms, slower set-up) instead of ESTIMATE
+  FftPrecision precision = FftPrecision::float64;
+};
+
+class HalfSpace {
+ public:
+  HalfSpace(const Grid& grid, const Material& material, Coupling coupling, FftOptions fft = {});
+  ~HalfSpace();
+  HalfSpace(const HalfSpace&) = delete;
+  HalfSpace& operator=(const HalfSpace&) = delete;
+
+  const Grid& grid() const { return grid_; }
+  Coupling coupling() const { return coupling_; }
+  FftPrecision precision() const { return precision_; }
+
+  /// Smallest relative residual a solver on this operator is allowed to ask for: 0 in double,
+  /// kFloatFftMinTolerance in float32 (below it the iterations stagnate on round-off).
+  double min_tolerance() const;
+  /// Throws InputError naming `solver` when `tolerance` < min_tolerance(): an unreachable
+  /// tolerance fails at once instead of iterating to max_iterations on round-off.
+  void require_tolerance(double tolerance, const char* solver) const;
+
+  /// Normal displacement u_z = K_z * p (m) of pressure p (Pa).
+  void normal(const Field& p, Field& uz);
+  /// Tangential displacement of one traction component under the analogy:
+  /// u = (E*/G*) K_z * t. Valid for any coupling when only this component is loaded and the
+  /// coupling is the analogy; use tangential() for Cerruti.
+  void tangential_analogy(const Field& t, Field& u);
+  /// Tangential displacements (ux, uy) of tractions (tx, ty) with the selected coupling.
+  void tangential(const Field& tx, const Field& ty, Field& ux, Field& uy);
+
+  /// Fourier preconditioner z = K_z^-1 * r: division by the (padded) kernel spectrum, one
+  /// convolution's cost (Vollebregt, J. Comput. Phys. 257, 2014; Bazrafshan et al. 2017).
+  /// The spectrum is floored at 1e-6 of its largest value; the periodic mean mode (zero in the
+  /// spectrum) takes the largest value, so that M stays positive definite.
+  void normal_inverse(const Field& r, Field& z);
+
+  /// Adds K_z * e to u for a sparse pressure change e (values at the given linear indices), by
+  /// direct summation with the real-space kernel: cheaper than a convolution for few nodes.
+  void normal_add_sparse(std::span<const std::int64_t> idx, std::span<const double> val,
+                         Field& uz) const;
+  /// Same for the analogy tangential operator (scaled normal kernel).
+  void tangential_add_sparse(std::span<const std::int64_t> idx, std::span<const double> val,
+                             Field& u) const;
+
+  /// Largest number of changed nodes for which the *_add_sparse updates are cheaper than one
+  /// convolution. The break-even measured by bench_convolution grows about linearly with the
+  /// side (~70 nodes at n = 128, ~140 at 256): half the side stays below it.
+  std::size_t sparse_limit() const;
+
+  /// Normal self-compliance K_z(0,0) (m/Pa): the displacement of a cell under its own unit
+  /// pressure; the largest diagonal entry of the operator.
+  double normal_self() const { return self_; }
+  /// Largest eigenvalue of the normal operator (m/Pa): bound for gradient step sizes.
+  double normal_max_eigenvalue() const { return max_eig_; }
+  /// E*/G*: ratio of the analogy tangential operator to the normal one.
+  double tangential_ratio() const { return ratio_; }
+
+  /// Number of forward+inverse convolution passes performed so far (machine-independent cost).
+  std::int64_t convolutions() const { return convolutions_; }
+
+ private:
+  struct Fft;
+  void build_free_kernels(const Material& m);
+  void build_periodic_kernels(const Material& m);
+  void add_sparse(const Eigen::ArrayXXd& kernel, double scale, std::span<const std::int64_t> idx,
+                  std::span<const double> val, Field& u) const;
+
+  Grid grid_;
+  Coupling coupling_;
+  FftPrecision precision_;
+  std::unique_ptr<Fft> fft_;
+  Eigen::ArrayXXd kz_space_;  ///< normal real-space kernel on the padded grid (m/Pa)
+  double self_ = 0.0;
+  double max_eig_ = 0.0;
+  double ratio_ = 1.0;
+  std::int64_t convolutions_ = 0;
+};
+
+}  // namespace fretbem

@@ -1,0 +1,47 @@
+// LoadPath: the scripted load history as a list of steps (DESIGN §4 "Path semantics").
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "fretbem/scenario/scenario.hpp"
+#include "fretbem/contact/tangential_operator.hpp"
+
+namespace fretbem {
+
+/// The normal load of a step: force (N) or indentation (m).
+struct NormalLoad {
+  bool force_control = true;
+  double value = 0.0;
+  bool operator==(const NormalLoad&) const = default;
+};
+
+/// One load step. Row 0 of a path is the initial normal loading with zero tangential load.
+struct LoadStep {
+  double time = 0.0;
+  int cycle = 0;
+  NormalLoad normal;
+  Control control = Control::force;
+  /// Tangential target, global x-y: force in units of mu F_z (force control, so that it follows
+  /// a normal force known only after the normal solve) or displacement (m).
+  Vec2 target{0.0, 0.0};
+  bool relative = true;  ///< force target in units of mu F_z (ramp, sine) or in N (tables)
+  bool turning = false;  ///< a turning point of the path (fields are saved there)
+};
+
+struct LoadPath {
+  std::vector<LoadStep> steps;
+  /// The single direction of every tangential target, when the history is collinear.
+  std::optional<Vec2> collinear_direction() const;
+  /// True when the tangential target is monotone from step a to step b (same direction of
+  /// motion, no reversal) and the normal load is constant: a Ciavarella–Jäger segment.
+  bool monotone(std::size_t a, std::size_t b) const;
+};
+
+/// Builds the path of a scenario; table paths read their CSV (InputError on any problem).
+LoadPath make_load_path(const Scenario& sc);
+/// Reads a path table: columns `time` plus any of Fz, delta, Fx, Fy, Ux, Uy.
+LoadPath read_load_table(const std::filesystem::path& file, const LoadSpec& spec, double mu);
+
+}  // namespace fretbem

@@ -1,0 +1,43 @@
+// Model: everything a run needs, built once from a validated Scenario — grid, material,
+// surface, half-space operator and the solvers on it (DESIGN §2).
+#pragma once
+
+#include <memory>
+
+#include "fretbem/history/load_path.hpp"
+#include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/scenario/scenario.hpp"
+#include "fretbem/contact/stiffness.hpp"
+#include "fretbem/contact/tangential_solver.hpp"
+#include "fretbem/wear/law.hpp"
+
+namespace fretbem {
+
+struct Model {
+  Scenario scenario;
+  LoadPath path;
+  Field surface0;  ///< initial indenter height (m)
+  Field surface;   ///< current indenter height (m): changes only by wear
+  std::unique_ptr<HalfSpace> half_space;
+  std::unique_ptr<NormalSolver> normal;
+  std::unique_ptr<TangentialOperator> tangential_operator;
+  std::unique_ptr<TangentialSolver> tangential;
+  std::unique_ptr<StiffnessSolver> stiffness;  ///< null when solver.stiffness = false
+  std::unique_ptr<WearModel> wear;             ///< null when wear.law = none
+};
+
+/// Builds the surface and operators. The tangential operator is one-component (no y-solve)
+/// when the coupling is the analogy and the path is collinear.
+std::unique_ptr<Model> build_model(const Scenario& sc);
+/// Upper estimate of the peak memory (bytes) of a run of this scenario, from the grid alone:
+/// calibrated on peak RSS measured with /usr/bin/time -v (docs/performance.md, "Memory").
+double estimated_peak_bytes(const Scenario& sc);
+/// Throws InputError (one line) when the estimate exceeds the machine's physical memory: a grid
+/// that cannot fit is refused before anything large is allocated. build_model calls it.
+void check_memory(const Scenario& sc);
+/// FFT threads for solver.threads = 0: one below n = 512, all cores from there up.
+int default_threads(const Grid& grid);
+/// The surface a scenario describes (generated, or loaded and checked against the grid).
+Field make_surface(const Scenario& sc);
+
+}  // namespace fretbem

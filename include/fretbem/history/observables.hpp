@@ -1,0 +1,37 @@
+// Observables: the per-step scalars of the time series (DESIGN §4 "Time series").
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "fretbem/contact/interface_state.hpp"
+
+namespace fretbem {
+
+struct StepRecord {
+  int step = 0;
+  double time = 0.0;
+  int cycle = 0;
+  double Fz = 0, delta = 0, Fx = 0, Fy = 0, Ux = 0, Uy = 0;  // N, m
+  double contact_area = 0, stick_area = 0, slip_area = 0;    // m^2
+  double Fx_stick = 0;                                       ///< x force carried by stick nodes (N)
+  double kx = 0;           ///< differential tangential stiffness dFx/dUx (N/m); NaN when off
+  double dissipation = 0;  ///< cumulative sum tau . s h^2 (J)
+  double wear_volume = 0;  ///< cumulative worn volume (m^3)
+  int normal_iterations = 0, tangential_iterations = 0;
+  double normal_residual = 0, tangential_residual = 0;
+  int convolutions = 0;  ///< FFT convolutions this step used
+  bool turning = false;  ///< turning point of the load path
+
+  /// Column names, in the order of values(); the first 18 are the DESIGN §4 contract.
+  static const std::vector<std::string>& columns();
+  std::vector<double> values() const;
+  /// Inverse of values() (a row read back from timeseries.csv).
+  static StepRecord from_values(const std::vector<double>& v);
+};
+
+/// Fills the areas and Fx_stick of a record from a classified interface state (x components
+/// from the operator's basis).
+void measure_areas(const InterfaceState& s, const TangentialOperator& op, StepRecord& r);
+
+}  // namespace fretbem

@@ -1,0 +1,70 @@
+// Stepper: walks the load path. Per step: normal solve (only when the normal load or the
+// surface changed) -> tangential increment (only when its load or the bound changed) -> update
+// the InterfaceState -> observables -> observers (DESIGN §2).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "fretbem/history/model.hpp"
+#include "fretbem/history/observables.hpp"
+
+namespace fretbem {
+
+/// Receives every finished step; writers and progress lines are observers.
+class Observer {
+ public:
+  virtual ~Observer() = default;
+  virtual void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) = 0;
+  virtual void on_finish(const InterfaceState& /*state*/, const Model& /*model*/) {}
+};
+
+/// The stepper's memory between steps besides the InterfaceState: what a restart needs.
+struct StepperMemory {
+  std::size_t next_step = 0;
+  std::optional<NormalLoad> last_normal;
+  Eigen::VectorXd last_target;
+  double dissipation = 0.0;
+  double wear_volume = 0.0;
+};
+
+class Stepper {
+ public:
+  explicit Stepper(Model& model);
+  /// Runs the remaining steps of the path (at most max_steps of them), notifying the
+  /// observers after each; on_finish only when the path is complete. Returns steps run.
+  std::size_t run(const std::vector<Observer*>& observers, std::size_t max_steps = SIZE_MAX);
+  /// Runs step k only (k = 0 is the initial normal loading); returns its record.
+  StepRecord advance(std::size_t k);
+  /// Runs one step given explicitly (wear cycles replay the path's cycle); `index` is its row.
+  StepRecord advance(const LoadStep& ls, int index);
+  /// The indenter surface (Model::surface) changed: the next step re-solves the normal contact
+  /// even at an unchanged normal load (DESIGN §2 "no normal re-solve when F_z, delta and the
+  /// surface did not change").
+  void surface_changed() { surface_changed_ = true; }
+
+  const InterfaceState& state() const { return state_; }
+  /// Restart support: the complete state after the last finished step, and its restoration.
+  StepperMemory memory() const;
+  void restore(const InterfaceState& state, const StepperMemory& memory);
+  std::size_t steps() const { return model_.path.steps.size(); }
+
+ private:
+  bool normal_step(const LoadStep& ls, StepRecord& rec);
+  void tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec);
+  bool shortcut_applies(std::size_t k) const;
+  void shortcut_step(const LoadStep& ls, StepRecord& rec);
+  void accumulate_slip(const VecField& u0, const Eigen::VectorXd& dU, StepRecord& rec);
+
+  Model& model_;
+  InterfaceState state_;
+  Field bound_;
+  std::optional<NormalLoad> last_normal_;
+  Eigen::VectorXd last_target_;
+  double dissipation_ = 0.0;
+  double wear_volume_ = 0.0;
+  std::size_t next_ = 0;
+  bool surface_changed_ = false;
+};
+
+}  // namespace fretbem

@@ -1,0 +1,87 @@
+// Run outputs as observers of the stepper: the time-series CSV, the HDF5 result file and the
+// progress line (DESIGN §4 "Time series", "Fields").
+#pragma once
+
+#include <chrono>
+#include <memory>
+
+#include "fretbem/io/csv_writer.hpp"
+#include "fretbem/io/hdf5_writer.hpp"
+#include "fretbem/history/stepper.hpp"
+
+namespace fretbem {
+
+/// DIR/timeseries.csv, one flushed row per step. Rejects NaN where the contract forbids it.
+class TimeseriesCsv final : public Observer {
+ public:
+  /// resume_rows >= 0: keep the first resume_rows data rows of an existing file and append.
+  explicit TimeseriesCsv(const std::filesystem::path& dir, long resume_rows = -1);
+  void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) override;
+  const std::filesystem::path& path() const { return csv_.path(); }
+
+ private:
+  io::CsvWriter csv_;
+};
+
+/// DIR/result.h5: resolved scenario, initial and final surface, time series, and the fields
+/// of output.fields every output.fields_every steps, at turning points and at the last step.
+class ResultFile final : public Observer {
+ public:
+  /// resume_rows >= 0: reopen the existing file, keep that many time-series rows, append.
+  ResultFile(const std::filesystem::path& dir, const Model& model, long resume_rows = -1);
+  void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) override;
+  void on_finish(const InterfaceState& state, const Model& model) override;
+  const std::filesystem::path& path() const { return h5_.path(); }
+  /// The file itself, for writers of other groups (wear snapshots).
+  io::Hdf5Writer& writer() { return h5_; }
+
+ private:
+  io::Hdf5Writer h5_;
+};
+
+/// DIR/cycles.csv: per load cycle (period 1 in time) the energy dissipated (nodal sums), the
+/// loop area of the F-U path (trapezoid rule, x and y), force and shift amplitudes, k_x and the
+/// slip area at the cycle's turning points. A step's increment belongs to the cycle that
+/// contains its time interval (t_{k-1}, t_k].
+class CycleSummary final : public Observer {
+ public:
+  explicit CycleSummary(const std::filesystem::path& dir, long resume_rows = -1);
+  void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) override;
+  void on_finish(const InterfaceState& state, const Model& model) override;
+  static const std::vector<std::string>& columns();
+
+ private:
+  void flush_cycle();
+  io::CsvWriter csv_;
+  bool have_prev_ = false;
+  StepRecord prev_;
+  int cycle_ = -1;
+  double diss0_ = 0, loop_ = 0, fmin_ = 0, fmax_ = 0, umin_ = 0, umax_ = 0;
+  double k_at_max_ = 0, k_at_min_ = 0, slip_at_peak_ = 0, peak_ = -1;
+  int steps_ = 0;
+};
+
+/// One progress line on stderr (step, cycle, ETA), shown once a run has taken a second.
+class ProgressLine final : public Observer {
+ public:
+  explicit ProgressLine(std::size_t total_steps);
+  void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) override;
+  void on_finish(const InterfaceState& state, const Model& model) override;
+
+ private:
+  std::size_t total_;
+  std::chrono::steady_clock::time_point start_, last_;
+  bool shown_ = false;
+};
+
+/// DIR/NAME.csv with these columns; resume_rows >= 0: keep the header and the first
+/// resume_rows data rows of an existing file and append (rows an interrupted run wrote after
+/// its checkpoint are dropped, not duplicated).
+io::CsvWriter open_csv(const std::filesystem::path& dir, const std::string& name,
+                       const std::vector<std::string>& cols, long resume_rows = -1);
+
+/// The fields a run can save, by their output names, in global x-y components.
+std::map<std::string, Field> output_fields(const std::vector<std::string>& names,
+                                           const InterfaceState& state, const Model& model);
+
+}  // namespace fretbem

@@ -1,0 +1,118 @@
+// Scenario: a validated simulation description in SI units, read from an INI file
+// (Boost.Program_options config syntax) plus `section.key=value` overrides (DESIGN §4).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fretbem/elastic/grid.hpp"
+#include "fretbem/elastic/half_space.hpp"
+#include "fretbem/elastic/material.hpp"
+#include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/surface/surface.hpp"
+
+namespace fretbem {
+
+enum class SurfaceType { sphere, flat, rough, file };
+enum class PathType { none, ramp, sine, table };
+enum class Control { force, displacement };
+enum class TangentialAlgorithm { projected, partition };
+enum class WearLaw { none, archard, energy };
+/// arkode: erk or dirk, whichever the run's length against the explicit stability cap favours.
+enum class WearIntegrator { arkode, cycle, erk, dirk };
+/// Newton iteration of the implicit (dirk) wear integrator: modified Newton with the frozen-slip
+/// Newton matrix (WearPreconditioner), or Jacobian-free Newton–Krylov (SPGMR, finite-difference
+/// Jacobian-vector products of the wear map, the frozen-slip matrix as preconditioner).
+enum class WearNewton { frozen, krylov };
+
+struct SurfaceSpec {
+  SurfaceType type = SurfaceType::sphere;
+  double radius = 0.0;         ///< sphere radius (m)
+  RoughSpec rough;             ///< rough surfaces
+  std::filesystem::path file;  ///< file surfaces (resolved against the scenario's folder)
+  std::string dataset;         ///< HDF5 dataset name for file surfaces ("" = first 2-D dataset)
+};
+
+struct LoadSpec {
+  std::optional<double> normal_force;  ///< constant normal force (N)
+  std::optional<double> indentation;   ///< constant indentation (m)
+  PathType path = PathType::none;
+  Control control = Control::force;
+  double amplitude = 0.0;               ///< tangential amplitude / (mu F_z) (force control)
+  double displacement_amplitude = 0.0;  ///< tangential amplitude (m) (displacement control)
+  double direction = 0.0;               ///< direction of the path in the x-y plane (degrees)
+  int cycles = 1;
+  int steps_per_cycle = 64;
+  int steps = 20;
+  std::filesystem::path table;  ///< CSV path table (resolved against the scenario)
+};
+
+struct SolverSpec {
+  /// Relative residual of normal and tangential solves. 1e-8: the errors against the closed
+  /// forms (bench_accuracy_vs_time, docs/performance.md) are those of 1e-10 to 3-4 digits up
+  /// to n = 512, at 0.7-0.8x the time.
+  double tolerance = 1e-8;
+  int max_iterations = 5000;
+  Coupling coupling = Coupling::analogy;
+  int threads = 0;  ///< 0: all cores
+  TangentialAlgorithm algorithm = TangentialAlgorithm::projected;
+  bool stiffness = true;     ///< compute the exact differential stiffness kx every step
+  bool fft_measure = false;  ///< FFTW_MEASURE plans
+  /// float32: single-precision convolutions (opt-in; the default tolerance is then
+  /// kFloatFftMinTolerance and smaller ones are refused).
+  FftPrecision fft_precision = FftPrecision::float64;
+  /// Virgin monotone segments at constant normal load by the Ciavarella–Jäger superposition
+  /// (analogy, collinear paths) instead of incremental solves.
+  bool shortcut = false;
+  /// Fourier preconditioning of the normal CG and the tangential projected CG; automatic: the
+  /// measured rules (normal: from 256 x 256 cells; tangential: contact patch >= 2048 nodes).
+  Precondition precondition = Precondition::automatic;
+};
+
+struct OutputSpec {
+  std::filesystem::path dir = "out";
+  std::vector<std::string> fields;  ///< subset of pressure, traction_x, traction_y, state,
+                                    ///< slip_x, slip_y, dissipation, wear
+  int fields_every = 0;             ///< 0: only at turning points and the last step
+  /// Restart checkpoint (DIR/checkpoint.h5) every this many steps; 0: every 10 s of run time,
+  /// at turning points and at the end.
+  int checkpoint_every = 0;
+};
+
+struct WearSpec {
+  WearLaw law = WearLaw::none;
+  double coefficient = 0.0;  ///< Archard k (1/Pa) or energy alpha (m^3/J = 1/Pa)
+  double cycles = 0.0;       ///< cycle count N to integrate to
+  WearIntegrator integrator = WearIntegrator::arkode;
+  double rtol = 1e-3, atol = 1e-9;
+  WearNewton newton = WearNewton::frozen;
+  /// Share of the worn depth taken by the indenter, the rest by the half-space (issue 6:
+  /// "split between the two bodies with a ratio when both wear"); 1 = indenter only.
+  double indenter_share = 1.0;
+};
+
+struct Scenario {
+  std::string name;           ///< file stem
+  std::string resolved_text;  ///< every key with its final value, INI syntax
+  Material material;
+  Grid grid;
+  SurfaceSpec surface;
+  LoadSpec load;
+  SolverSpec solver;
+  OutputSpec output;
+  WearSpec wear;
+};
+
+/// Reads, merges overrides ("section.key=value", applied after the file) and validates.
+/// Throws InputError with one line naming the file, key and value on any problem; unknown
+/// keys are rejected with the nearest valid name.
+Scenario load_scenario(const std::filesystem::path& file,
+                       const std::vector<std::string>& overrides = {});
+/// Same from text (name used in messages; relative paths resolve against base_dir).
+Scenario parse_scenario(const std::string& text, const std::string& name,
+                        const std::filesystem::path& base_dir,
+                        const std::vector<std::string>& overrides = {});
+
+}  // namespace fretbem

@@ -1,0 +1,183 @@
+// Wear integration over the cycle count N (DESIGN §1 "Wear", §2 "(wear) cycle integrator
+// updates Surface between cycles"; issue 6).
+//
+// The surface is updated between cycles, never within one: a cycle is simulated on a frozen
+// surface (constant normal load => one normal solve, constant Coulomb bound, a tangential
+// history that is exactly the Mindlin–Deresiewicz loop of that surface), and its worn depth
+// w(z) is then applied, z <- z - w. Updating within a cycle would change the pressure, hence
+// the bound, at every step (a normal solve per step) for a correction of relative order
+// w/delta, which is 1e-6..1e-3 in fretting; and it would make the per-cycle wear map w(z) that
+// the ODE integrator needs ill-defined.
+//
+// Modes (wear.integrator):
+//  - cycle: the reference. Cycle after cycle with tractions carried (the physical history);
+//    each cycle's wear is applied before the next.
+//  - arkode (default): erk while wear.cycles is at most 50 explicit stability caps, dirk past
+//    that (measured crossover, docs/wear.md).
+//  - erk: dW/dN = w(z0 - W) for the worn depth W, explicit adaptive Runge–Kutta
+//    (SUNDIALS ARKODE ERKStep), error-controlled, with the step capped by the explicit stability
+//    bound dN k s_max K_max <= 1 (issue 6), K_max = 1.7 E*/h. The right-hand side is the
+//    steady cycle of the surface: from a fresh (traction-free) state, monotone loading to the
+//    path's first turning point, then one full cycle back to it. For Coulomb friction at
+//    constant pressure that loop is closed from the first turning point on (Masing /
+//    Mindlin–Deresiewicz), so w is a function of z alone — not of a traction state carried
+//    from a different surface, which is what eroded the stick zone in the prototype.
+//  - dirk: the same ODE by ARKODE ARKStep, implicit SDIRK order 2, no step cap. Newton with the
+//    frozen-slip Newton matrix (WearPreconditioner: the pressure response to wear with the slip
+//    of the last cycle held fixed, solved exactly by CG), or Jacobian-free Newton–Krylov
+//    (SPGMR, finite-difference Jacobian-vector products of the per-cycle wear map,
+//    preconditioned by the same matrix): wear.newton.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "fretbem/history/stepper.hpp"
+
+namespace fretbem {
+
+class ResultFile;
+
+/// One simulated cycle and what it says about the surface it ran on.
+struct WearCycle {
+  double N = 0.0;               ///< cycle count the simulated cycle stands for
+  Field rate;                   ///< worn depth of the cycle (m per cycle)
+  double energy = 0.0;          ///< energy dissipated in the cycle (J)
+  double wear_volume = 0.0;     ///< worn volume of the surface it ran on, sum W h^2 (m^3)
+  double max_depth = 0.0;       ///< max worn depth of that surface (m)
+  double contact_radius = 0.0;  ///< sqrt(A / pi) (m)
+  double stick_area = 0.0;      ///< smallest stick area in the cycle (at its peak load) (m^2)
+  double peak_pressure = 0.0;   ///< max p (Pa)
+  double delta = 0.0;           ///< indentation against the unworn datum (m)
+  double max_slip = 0.0;        ///< largest slip path length of a node in the cycle (m)
+  double simulated = 0.0;       ///< simulated cycles so far, this one included
+  /// The surface it ran on is a point of the integrator's solution (cycle mode: always;
+  /// ARKODE: the first evaluation of an accepted state, and the final observation), not a
+  /// stage, trial or rejected evaluation. N is increasing over the accepted cycles.
+  bool accepted = false;
+  std::uint64_t worn_hash = 0;  ///< fingerprint of the worn depth it ran on (ARKODE only)
+};
+
+/// WearCycles' counters: what a resumed run continues from.
+struct WearCounters {
+  double simulated = 0.0;  ///< simulated cycles
+  int evaluations = 0;     ///< simulated-cycle evaluations (wear maps)
+  int rows = 0;            ///< rows emitted to the observers (timeseries.csv)
+  int index = 0;           ///< simulated-cycle index (the integer part of a row's time)
+};
+
+/// Where a wear run stands after a finished wear step — a simulated cycle (cycle mode) or an
+/// accepted integrator step (ARKODE) — besides the stepper state: the wear part of a
+/// checkpoint (checkpoint.hpp).
+struct WearCheckpoint {
+  double N = 0.0;           ///< cycle count reached (cycle mode: the next cycle to simulate)
+  Field worn;               ///< worn depth W at N (ARKODE; cycle mode: z0 - surface)
+  double h_next = 0.0;      ///< ARKODE: step to attempt next (the first step after a resume)
+  double h_max = INFINITY;  ///< ARKODE: explicit stability cap in force
+  WearCounters counters;
+  long steps = 0, rejected = 0;  ///< integrator steps so far (all invocations)
+  long next_snapshot = 0;        ///< index into snapshot_cycles(wear.cycles)
+  long cycles_rows = 0;          ///< rows of cycles.csv (set by the log)
+  long snapshots = 0;            ///< snapshot groups written (set by the log)
+  bool implicit = false;         ///< ARKODE: the method in use (arkode chooses once, at N = 0)
+};
+
+struct WearReport {
+  Field worn;                      ///< final worn depth W = z0 - z (m)
+  std::vector<WearCycle> history;  ///< every simulated cycle (rate fields dropped)
+  double simulated_cycles = 0.0;   ///< simulated cycles (a steady cycle counts as 1.25)
+  int rhs_evaluations = 0;         ///< wear-map evaluations (cycles in cycle mode)
+  long steps = 0, rejected = 0;    ///< integrator steps (arkode/dirk), all invocations
+  bool implicit = false;           ///< the implicit method ran (dirk, or arkode's choice)
+  /// Implicit integrator: Newton iterations and their convergence failures, Krylov iterations
+  /// (wear.newton = krylov), inner CG iterations (= convolutions) of the frozen-slip solves.
+  long newton_iterations = 0, newton_failures = 0, krylov_iterations = 0, inner_iterations = 0;
+  double N = 0.0;        ///< cycle count reached
+  bool stopped = false;  ///< stopped by the step budget before wear.cycles
+};
+
+/// Destination of the wear outputs: DIR/cycles.csv, snapshots in result.h5, checkpoints,
+/// progress.
+class WearLog {
+ public:
+  virtual ~WearLog() = default;
+  /// Every simulated cycle, in order; ARKODE rows come after the integrator step they belong
+  /// to is finished (their `accepted` flag is known only then).
+  virtual void cycle(const WearCycle& /*c*/) {}
+  /// Fields at N (worn depth, pressure): called at the geometric sequence of N.
+  virtual void snapshot(double /*N*/, const Field& /*worn*/, const Field& /*pressure*/) {}
+  /// A wear step is finished and its rows and snapshots are out: the state to resume from.
+  virtual void step_done(const WearCheckpoint& /*at*/) {}
+};
+
+/// Simulates cycles of the scenario's load path (its first period) on the model's surface.
+class WearCycles {
+ public:
+  WearCycles(Model& model, Stepper& stepper, std::vector<Observer*> observers = {});
+  /// The initial normal loading (row 0).
+  void start();
+  /// One cycle continuing the stepper's history (cycle mode); the surface is not touched.
+  WearCycle carried(double N);
+  /// The steady cycle of surface z0 - worn, from a fresh traction state (ODE right-hand side).
+  WearCycle steady(double N, const Field& worn);
+  /// Pressure on surface z0 - worn under the scenario's normal load.
+  Field pressure_on(const Field& worn);
+  /// Removes one cycle's worn depth from the surface, z <- z - rate (cycle mode).
+  void apply(const Field& rate);
+  /// Pressure of the last simulated step.
+  const Field& pressure() const { return stepper_.state().pressure; }
+  double simulated() const { return simulated_; }
+  int evaluations() const { return evaluations_; }
+  WearCounters counters() const { return {simulated_, evaluations_, row_, index_}; }
+  /// Resume: continue the counters; the stepper state was restored by the caller, and the
+  /// surface changed since its last normal solve (cycle mode applies a cycle's wear before
+  /// every checkpoint).
+  void resume(const WearCounters& c);
+
+ private:
+  void fresh(const Field& worn);
+  StepRecord step(const LoadStep& ls, double time, bool emit);
+  WearCycle measure(double N, const std::vector<LoadStep>& steps, double t_shift);
+
+  Model& model_;
+  Stepper& stepper_;
+  std::vector<Observer*> observers_;
+  LoadStep initial_;
+  std::vector<LoadStep> cycle_, virgin_, steady_;  // one period; to 1st turning; turning->turning
+  double turn_ = 0.0;                              // time of the first turning point
+  double simulated_ = 0.0;
+  int evaluations_ = 0, row_ = 0, index_ = 0;
+};
+
+/// Runs wear.integrator to wear.cycles. log may be null. With `resume`, continues from that
+/// checkpoint (cycle mode: the caller restored the stepper state and the surface). At most
+/// `max_steps` wear steps (simulated cycles in cycle mode, accepted integrator steps in
+/// ARKODE modes) are taken in this call (negative: no limit); the report is then `stopped`.
+WearReport integrate_wear(Model& model, WearCycles& cycles, WearLog* log,
+                          const WearCheckpoint* resume = nullptr, long max_steps = -1);
+
+/// Stability cap on the cycle step of an explicit integrator: 1 / (k_eq s_max K_max),
+/// K_max = 1.7 E*/h the largest eigenvalue of the normal influence matrix (issue 6).
+double explicit_step_cap(const Model& model, double max_slip);
+
+/// Geometric output sequence 0, 1, 2, 5, 10, 20, 50, ... up to and including N_end.
+std::vector<double> snapshot_cycles(double N_end);
+
+/// The worn depth of each body for a total worn depth W: the indenter takes
+/// wear.indenter_share of it, the half-space the rest (the contact sees only the sum).
+Field indenter_worn(const Model& model, const Field& worn);
+Field half_space_worn(const Model& model, const Field& worn);
+
+struct Checkpoint;
+
+/// The `fretbem run` of a scenario with a wear law: timeseries.csv (rows of every simulated
+/// cycle; time = simulated-cycle index + phase), cycles.csv (one row per simulated cycle),
+/// result.h5 with wear snapshots, and DIR/checkpoint.h5 after every wear step. `resume`: a
+/// checkpoint of this run to continue from; `max_steps` as integrate_wear. Prints the
+/// simulated-cycle count unless quiet.
+WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume = nullptr,
+                    long max_steps = -1);
+
+}  // namespace fretbem

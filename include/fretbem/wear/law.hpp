@@ -1,0 +1,52 @@
+// WearModel: the local wear law, asked once per load step for the worn-depth increment of every
+// node from its pressure, end-of-step traction and slip increment (DESIGN §1 "Wear", §2 "Laws
+// are small interfaces, one file per law"). Nothing else knows which law is in use.
+#pragma once
+
+#include <memory>
+
+#include "fretbem/scenario/scenario.hpp"
+#include "fretbem/contact/tangential_operator.hpp"
+
+namespace fretbem {
+
+class WearModel {
+ public:
+  virtual ~WearModel() = default;
+  /// Worn-depth increment dh (m) per node for one step. p: pressure (Pa); tau: end-of-step
+  /// traction (Pa); s: slip increment of the step (m), zero off slip nodes. tau and s are in the
+  /// same (operator) components; only rotation invariants |s| and tau . s are used.
+  virtual Field increment(const Field& p, const VecField& tau, const VecField& s) const = 0;
+  /// An Archard coefficient k_eq with dh <= k_eq p |s| for this law (Coulomb friction with
+  /// coefficient mu): what the explicit integrator's stability bound needs.
+  virtual double archard_equivalent(double mu) const = 0;
+};
+
+/// Local Archard law dh = k p |s| (Archard 1953, applied pointwise: e.g. Põdra & Andersson,
+/// Wear 207, 1997).
+class ArchardWear final : public WearModel {
+ public:
+  explicit ArchardWear(double k) : k_(k) {}
+  Field increment(const Field& p, const VecField& tau, const VecField& s) const override;
+  double archard_equivalent(double) const override { return k_; }
+
+ private:
+  double k_;
+};
+
+/// Dissipated-energy law dh = alpha |tau . s| (Fouvry et al., Wear 255, 2003).
+class EnergyWear final : public WearModel {
+ public:
+  explicit EnergyWear(double alpha) : alpha_(alpha) {}
+  Field increment(const Field& p, const VecField& tau, const VecField& s) const override;
+  /// |tau . s| <= mu p |s| at a Coulomb slip node.
+  double archard_equivalent(double mu) const override { return alpha_ * mu; }
+
+ private:
+  double alpha_;
+};
+
+/// The law of wear.law, or null for wear.law = none (no wear arithmetic at all).
+std::unique_ptr<WearModel> make_wear_model(const WearSpec& spec);
+
+}  // namespace fretbem

@@ -1,0 +1,55 @@
+// WearPreconditioner: the linearised per-cycle wear map, used to precondition the Newton–Krylov
+// iterations of the implicit wear integrator (issue 6).
+//
+// The wear of a cycle is w = d ⊙ p(W): the pressure p of the surface z0 - W times the wear per
+// unit pressure d = w / p of each node in contact (k S for Archard with S the slip path of the
+// cycle; about alpha mu S for the energy law). The stiff part of dw/dW is the pressure's
+// response, with the slip frozen: removing v from the contact nodes changes the pressure by q,
+//   C q = dδ 1 - v  on the contact set A,  q = 0 off A,  Σ q = 0 (force control; dδ = 0 under
+//   indentation control),
+// with C the normal influence operator (m/Pa). The Newton matrix of an implicit step with
+// coefficient gamma is P = I - gamma J, J v = d ⊙ q(v). P x = b is solved exactly through
+//   (C_A + gamma D) q = dδ 1 - b_A,  x = b + gamma D q  (D = diag d),
+// an SPD system on A (two CG solves: one for the right-hand side, one cached for 1 under force
+// control). Its eigenvalues near gamma d K_max are the ones that cap explicit steps at
+// 1 / (k s K_max): with P the Krylov solver sees them removed.
+#pragma once
+
+#include "fretbem/elastic/grid.hpp"
+#include "fretbem/elastic/half_space.hpp"
+
+namespace fretbem {
+
+class WearPreconditioner {
+ public:
+  /// tolerance: relative residual of the inner CG solves.
+  WearPreconditioner(HalfSpace& half_space, bool force_control, double tolerance = 1e-8);
+
+  /// Linearises at a cycle with pressure p (Pa) and worn depth per cycle w (m): A = {p > 0},
+  /// d = w / p on A (m/Pa per cycle).
+  void setup(const Field& pressure, const Field& wear_per_cycle);
+  /// x = P^-1 b for P = I - gamma J (gamma in cycles). Throws SolverError if an inner CG solve
+  /// does not converge.
+  void solve(const Field& b, double gamma, Field& x);
+
+  bool ready() const { return ready_; }
+  /// Inner CG iterations (= convolutions) since construction.
+  long iterations() const { return iterations_; }
+
+ private:
+  /// (C_A + gamma D) q = r on A, Jacobi-preconditioned CG; q = 0 off A.
+  void cg(const Field& r, double gamma, Field& q);
+
+  HalfSpace& hs_;
+  bool force_control_;
+  double tol_;
+  bool ready_ = false;
+  Eigen::ArrayXXd mask_;  // 1 on A
+  Field d_;               // wear per unit pressure, 0 off A
+  double cached_gamma_ = -1.0;
+  Field ones_solution_;  // (C_A + gamma D)^-1 1_A for cached_gamma_
+  Field q_, diag_, r_, z_, s_, t_, u_;  // work fields, kept between solves
+  long iterations_ = 0;
+};
+
+}  // namespace fretbem

@@ -1,0 +1,30 @@
+#include "fretbem/contact/interface_state.hpp"
+
+namespace fretbem {
+
+InterfaceState InterfaceState::zeros(const TangentialOperator& op) {
+  const Grid& g = op.grid();
+  InterfaceState s;
+  s.pressure = g.zeros();
+  s.traction = op.zeros();
+  s.displacement = op.zeros();
+  s.state = StateField::Zero(g.nx, g.ny);
+  s.slip = op.zeros();
+  s.slip_path = g.zeros();
+  s.dissipation = g.zeros();
+  s.wear = g.zeros();
+  return s;
+}
+
+void InterfaceState::classify(const Field& bound, double eps) {
+  Field mag = traction[0].square();
+  for (std::size_t c = 1; c < traction.size(); ++c) mag += traction[c].square();
+  mag = mag.sqrt();
+  for (Eigen::Index k = 0; k < bound.size(); ++k) {
+    NodeState s = NodeState::open;
+    if (bound(k) > 0.0) s = mag(k) < bound(k) * (1.0 - eps) ? NodeState::stick : NodeState::slip;
+    state(k) = static_cast<std::uint8_t>(s);
+  }
+}
+
+}  // namespace fretbem

@@ -1,0 +1,123 @@
+// Path tables: CSV with a `time` column and any of Fz, delta, Fx, Fy, Ux, Uy (SI units).
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "fretbem/core/errors.hpp"
+#include "fretbem/history/load_path.hpp"
+
+namespace fretbem {
+
+namespace {
+
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string cell;
+  while (std::getline(ss, cell, ',')) {
+    const auto b = cell.find_first_not_of(" \t\r"), e = cell.find_last_not_of(" \t\r");
+    out.push_back(b == std::string::npos ? "" : cell.substr(b, e - b + 1));
+  }
+  return out;
+}
+
+double parse_number(const std::string& s, const std::string& where) {
+  std::size_t used = 0;
+  double v = 0.0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != s.size() || s.empty() || !std::isfinite(v))
+    throw InputError(where + ": '" + s + "' is not a finite number");
+  return v;
+}
+
+using Columns = std::map<std::string, std::vector<double>>;
+
+Columns read_columns(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file.string() + ": cannot open path table");
+  std::string line;
+  if (!std::getline(in, line)) throw InputError(file.string() + ": empty path table");
+  const auto names = split_csv(line);
+  static const std::vector<std::string> known{"time", "Fz", "delta", "Fx", "Fy", "Ux", "Uy"};
+  Columns cols;
+  for (const auto& n : names) {
+    if (std::find(known.begin(), known.end(), n) == known.end())
+      throw InputError(file.string() + ": unknown column '" + n +
+                       "' (expected time, Fz, delta, Fx, Fy, Ux, Uy)");
+    if (cols.count(n)) throw InputError(file.string() + ": column '" + n + "' appears twice");
+    cols[n];
+  }
+  for (int row = 2; std::getline(in, line); ++row) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const auto cells = split_csv(line);
+    const std::string where = file.string() + ":" + std::to_string(row);
+    if (cells.size() != names.size())
+      throw InputError(where + ": expected " + std::to_string(names.size()) + " values");
+    for (std::size_t c = 0; c < names.size(); ++c)
+      cols[names[c]].push_back(parse_number(cells[c], where));
+  }
+  return cols;
+}
+
+void check_columns(const std::filesystem::path& file, const Columns& cols) {
+  const std::string f = file.string();
+  if (!cols.count("time")) throw InputError(f + ": path table needs a 'time' column");
+  const auto& t = cols.at("time");
+  if (t.empty()) throw InputError(f + ": path table has no rows");
+  for (std::size_t k = 1; k < t.size(); ++k)
+    if (!(t[k] > t[k - 1]))
+      throw InputError(f + ":" + std::to_string(k + 2) + ": time must increase");
+  if (cols.count("Fz") && cols.count("delta")) throw InputError(f + ": give Fz or delta, not both");
+  const bool force = cols.count("Fx") || cols.count("Fy");
+  const bool disp = cols.count("Ux") || cols.count("Uy");
+  if (force && disp) throw InputError(f + ": give forces (Fx, Fy) or shifts (Ux, Uy), not both");
+}
+
+}  // namespace
+
+LoadPath read_load_table(const std::filesystem::path& file, const LoadSpec& spec, double) {
+  const Columns cols = read_columns(file);
+  check_columns(file, cols);
+  const auto& t = cols.at("time");
+  auto col = [&](const char* n, std::size_t k) { return cols.count(n) ? cols.at(n)[k] : 0.0; };
+  const bool disp = cols.count("Ux") || cols.count("Uy");
+  const Control control = disp ? Control::displacement : Control::force;
+  LoadPath path;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    NormalLoad normal;
+    if (cols.count("Fz"))
+      normal = {true, cols.at("Fz")[k]};
+    else if (cols.count("delta"))
+      normal = {false, cols.at("delta")[k]};
+    else if (spec.indentation)
+      normal = {false, *spec.indentation};
+    else if (spec.normal_force)
+      normal = {true, *spec.normal_force};
+    else
+      throw InputError(file.string() +
+                       ": no normal load: add an Fz or delta column, or set "
+                       "load.normal_force or load.indentation");
+    if (!(normal.value > 0.0))
+      throw InputError(file.string() + ":" + std::to_string(k + 2) +
+                       ": the normal load must be positive");
+    const Vec2 target = disp ? Vec2(col("Ux", k), col("Uy", k)) : Vec2(col("Fx", k), col("Fy", k));
+    if (k == 0) path.steps.push_back({t[0], 0, normal, control, Vec2::Zero(), false, false});
+    if (k == 0 && target.norm() == 0.0) continue;
+    path.steps.push_back({t[k], 0, normal, control, target, false, false});
+  }
+  // Turning points: where the tangential motion reverses or the path ends.
+  for (std::size_t k = 1; k + 1 < path.steps.size(); ++k) {
+    const Vec2 a = path.steps[k].target - path.steps[k - 1].target;
+    const Vec2 b = path.steps[k + 1].target - path.steps[k].target;
+    path.steps[k].turning = a.dot(b) < 0.0;
+  }
+  if (path.steps.size() > 1) path.steps.back().turning = true;
+  return path;
+}
+
+}  // namespace fretbem

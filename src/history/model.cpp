@@ -1,0 +1,105 @@
+#include "fretbem/history/model.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <thread>
+
+#include "fretbem/core/errors.hpp"
+
+namespace fretbem {
+
+Field make_surface(const Scenario& sc) {
+  const Grid& g = sc.grid;
+  switch (sc.surface.type) {
+    case SurfaceType::sphere:
+      return sphere_surface(g, sc.surface.radius);
+    case SurfaceType::flat:
+      return flat_surface(g);
+    case SurfaceType::rough:
+      return rough_surface(g, sc.surface.rough);
+    case SurfaceType::file: {
+      Field z = load_height_map(sc.surface.file, sc.surface.dataset);
+      if (z.rows() != g.nx || z.cols() != g.ny)
+        throw InputError(sc.surface.file.string() + ": height map is " + std::to_string(z.rows()) +
+                         " x " + std::to_string(z.cols()) + " (x by y) but the grid is " +
+                         std::to_string(g.nx) + " x " + std::to_string(g.ny));
+      return z;
+    }
+  }
+  throw InputError("surface.type: unknown");
+}
+
+// Peak RSS measured on the Cattaneo scenario (analogy, one tangential component, fields
+// written) was 44 MB at n = 256, 120 MB at n = 512, 427 MB at n = 1024 and 1.75 GiB at
+// n = 2048: 410-450 bytes per cell at large n (the padded FFT buffers and spectra, ~210 bytes
+// per cell, plus some 25 surface fields); Cerruti at n = 512: 186 MiB. The estimate takes 600
+// bytes per cell (1.4x the 2048 run), 900 when two tangential components or the Cerruti
+// spectra are needed, plus 64 MiB for the program.
+double estimated_peak_bytes(const Scenario& sc) {
+  const double cells = double(sc.grid.nx) * double(sc.grid.ny);
+  const bool two = sc.solver.coupling == Coupling::cerruti || sc.load.direction != 0.0 ||
+                   sc.load.path == PathType::table;
+  return (two ? 900.0 : 600.0) * cells + 64.0 * (1 << 20);
+}
+
+void check_memory(const Scenario& sc) {
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page <= 0) return;  // unknown: let the allocator decide
+  const double have = double(pages) * double(page), need = estimated_peak_bytes(sc);
+  if (need <= have) return;
+  std::ostringstream msg;
+  msg.precision(3);
+  msg << "grid " << sc.grid.nx << " x " << sc.grid.ny << " needs about " << need / (1 << 30)
+      << " GiB of memory but this machine has " << have / (1 << 30) << " GiB: reduce grid.n";
+  throw InputError(msg.str());
+}
+
+// solver.threads = 0: all cores from n = 512 up, where the 2n x 2n transforms are large enough
+// for threads to pay; one thread below (threads cost more than they save on small grids).
+int default_threads(const Grid& g) {
+  if (std::max(g.nx, g.ny) < 512) return 1;
+  return int(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+std::unique_ptr<Model> build_model(const Scenario& sc) {
+  check_memory(sc);  // before the surface, kernels and FFT buffers are allocated
+  auto m = std::make_unique<Model>();
+  m->scenario = sc;
+  m->path = make_load_path(sc);
+  m->surface0 = make_surface(sc);
+  m->surface = m->surface0;
+  FftOptions fft;
+  fft.threads = sc.solver.threads > 0 ? sc.solver.threads : default_threads(sc.grid);
+  fft.measure = sc.solver.fft_measure;
+  fft.precision = sc.solver.fft_precision;
+  m->half_space = std::make_unique<HalfSpace>(sc.grid, sc.material, sc.solver.coupling, fft);
+  // parse_scenario refuses these already; a Scenario built in code reaches this check.
+  m->half_space->require_tolerance(sc.solver.tolerance, "solver.tolerance");
+  NormalOptions nopt{sc.solver.tolerance, sc.solver.max_iterations, sc.solver.precondition};
+  m->normal = std::make_unique<NormalSolver>(*m->half_space, nopt);
+  const auto dir = m->path.collinear_direction();
+  if (sc.solver.coupling == Coupling::analogy && dir)
+    m->tangential_operator = std::make_unique<TangentialOperator>(*m->half_space, *dir);
+  else
+    m->tangential_operator = std::make_unique<TangentialOperator>(*m->half_space);
+  TangentialOptions topt{sc.solver.tolerance, sc.solver.max_iterations};
+  topt.precondition = sc.solver.precondition;
+  if (sc.solver.algorithm == TangentialAlgorithm::partition)
+    m->tangential = std::make_unique<PartitionSolver>(*m->tangential_operator, topt);
+  else
+    m->tangential = std::make_unique<ProjectedCgSolver>(*m->tangential_operator, topt);
+  // The stiffness solve's own floor of 1e-9 is raised to what float FFTs can reach: it is an
+  // internal accuracy choice, not the user's tolerance (which is at least that floor).
+  if (sc.solver.stiffness)
+    m->stiffness = std::make_unique<StiffnessSolver>(
+        *m->tangential_operator,
+        std::max({sc.solver.tolerance, 1e-9, m->half_space->min_tolerance()}),
+        sc.solver.max_iterations);
+  m->wear = make_wear_model(sc.wear);
+  return m;
+}
+
+}  // namespace fretbem

@@ -1,0 +1,81 @@
+#include "fretbem/history/observables.hpp"
+
+namespace fretbem {
+
+const std::vector<std::string>& StepRecord::columns() {
+  static const std::vector<std::string> c{"step",
+                                          "time",
+                                          "cycle",
+                                          "Fz",
+                                          "delta",
+                                          "Fx",
+                                          "Fy",
+                                          "Ux",
+                                          "Uy",
+                                          "contact_area",
+                                          "stick_area",
+                                          "slip_area",
+                                          "Fx_stick",
+                                          "kx",
+                                          "dissipation",
+                                          "wear_volume",
+                                          "normal_iterations",
+                                          "tangential_iterations",
+                                          "normal_residual",
+                                          "tangential_residual",
+                                          "convolutions",
+                                          "turning"};
+  return c;
+}
+
+std::vector<double> StepRecord::values() const {
+  return {double(step),
+          time,
+          double(cycle),
+          Fz,
+          delta,
+          Fx,
+          Fy,
+          Ux,
+          Uy,
+          contact_area,
+          stick_area,
+          slip_area,
+          Fx_stick,
+          kx,
+          dissipation,
+          wear_volume,
+          double(normal_iterations),
+          double(tangential_iterations),
+          normal_residual,
+          tangential_residual,
+          double(convolutions),
+          turning ? 1.0 : 0.0};
+}
+
+StepRecord StepRecord::from_values(const std::vector<double>& v) {
+  StepRecord r;
+  if (v.size() != columns().size()) return r;
+  r.step = int(v[0]), r.time = v[1], r.cycle = int(v[2]);
+  r.Fz = v[3], r.delta = v[4], r.Fx = v[5], r.Fy = v[6], r.Ux = v[7], r.Uy = v[8];
+  r.contact_area = v[9], r.stick_area = v[10], r.slip_area = v[11], r.Fx_stick = v[12];
+  r.kx = v[13], r.dissipation = v[14], r.wear_volume = v[15];
+  r.normal_iterations = int(v[16]), r.tangential_iterations = int(v[17]);
+  r.normal_residual = v[18], r.tangential_residual = v[19], r.convolutions = int(v[20]);
+  r.turning = v[21] != 0.0;
+  return r;
+}
+
+void measure_areas(const InterfaceState& s, const TangentialOperator& op, StepRecord& r) {
+  const double a = op.grid().cell_area();
+  const auto stick = (s.state == std::uint8_t(NodeState::stick));
+  const auto slip = (s.state == std::uint8_t(NodeState::slip));
+  r.stick_area = stick.count() * a;
+  r.slip_area = slip.count() * a;
+  r.contact_area = r.stick_area + r.slip_area;
+  // x component of the traction in global axes.
+  const double ex = op.components() == 1 ? op.direction().x() : 1.0;
+  r.Fx_stick = (stick.cast<double>() * s.traction[0]).sum() * ex * a;
+}
+
+}  // namespace fretbem

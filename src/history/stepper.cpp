@@ -1,0 +1,192 @@
+#include "fretbem/history/stepper.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "fretbem/contact/monotone_shortcut.hpp"
+
+namespace fretbem {
+
+Stepper::Stepper(Model& model)
+    : model_(model), state_(InterfaceState::zeros(*model.tangential_operator)) {}
+
+std::size_t Stepper::run(const std::vector<Observer*>& observers, std::size_t max_steps) {
+  std::size_t done = 0;
+  for (std::size_t k = next_; k < steps() && done < max_steps; ++k, ++done) {
+    const StepRecord rec = advance(k);
+    for (auto* o : observers) o->on_step(rec, state_, model_);
+  }
+  if (next_ == steps())
+    for (auto* o : observers) o->on_finish(state_, model_);
+  return done;
+}
+
+StepperMemory Stepper::memory() const {
+  return {next_, last_normal_, last_target_, dissipation_, wear_volume_};
+}
+
+void Stepper::restore(const InterfaceState& state, const StepperMemory& m) {
+  state_ = state;
+  bound_ = model_.scenario.material.mu * state_.pressure;
+  next_ = m.next_step;
+  last_normal_ = m.last_normal;
+  last_target_ = m.last_target;
+  dissipation_ = m.dissipation;
+  wear_volume_ = m.wear_volume;
+}
+
+StepRecord Stepper::advance(std::size_t k) {
+  const StepRecord rec = advance(model_.path.steps.at(k), int(k));
+  next_ = k + 1;
+  return rec;
+}
+
+StepRecord Stepper::advance(const LoadStep& ls, int k) {
+  HalfSpace& hs = *model_.half_space;
+  const auto conv0 = hs.convolutions();
+  StepRecord rec;
+  rec.step = k;
+  rec.time = ls.time;
+  rec.cycle = ls.cycle;
+  rec.turning = ls.turning;
+  const bool bound_changed = normal_step(ls, rec);
+  if (k > 0 && shortcut_applies(k))
+    shortcut_step(ls, rec);
+  else if (k > 0)
+    tangential_step(ls, bound_changed, rec);
+  state_.classify(bound_, model_.scenario.solver.tolerance);
+  rec.Fz = state_.normal_force;
+  rec.delta = state_.indentation;
+  const TangentialOperator& op = *model_.tangential_operator;
+  Eigen::VectorXd Floc(op.components());
+  for (int c = 0; c < op.components(); ++c)
+    Floc(c) = state_.traction[c].sum() * op.grid().cell_area();
+  const Vec2 Fg = op.to_global(Floc);
+  rec.Fx = Fg.x() + 0.0, rec.Fy = Fg.y() + 0.0;  // + 0.0: no -0 in the output
+  rec.Ux = state_.shift.x() + 0.0, rec.Uy = state_.shift.y() + 0.0;
+  measure_areas(state_, op, rec);
+  rec.kx = std::numeric_limits<double>::quiet_NaN();
+  if (model_.stiffness) rec.kx = model_.stiffness->solve(state_.state).kx;
+  rec.dissipation = dissipation_;
+  rec.wear_volume = wear_volume_;
+  rec.convolutions = int(hs.convolutions() - conv0);
+  return rec;
+}
+
+// Normal solve, skipped when neither the normal load nor the surface changed. Returns whether
+// the Coulomb bound mu p changed.
+bool Stepper::normal_step(const LoadStep& ls, StepRecord& rec) {
+  if (last_normal_ && *last_normal_ == ls.normal && !surface_changed_) return false;
+  NormalSolver& ns = *model_.normal;
+  // The solver measures delta from first touch at max(z); a worn surface's highest point may
+  // lie below the original one, so delta is converted to the unworn surface's datum (its
+  // growth under constant normal force is the wear's signature).
+  const double datum = model_.surface0.maxCoeff() - model_.surface.maxCoeff();
+  const NormalResult r =
+      ls.normal.force_control
+          ? ns.solve_force(model_.surface, ls.normal.value, state_.pressure)
+          : ns.solve_indentation(model_.surface, ls.normal.value - datum, state_.pressure);
+  last_normal_ = ls.normal;
+  surface_changed_ = false;
+  state_.normal_force = r.force;
+  state_.indentation = r.indentation + datum;
+  bound_ = model_.scenario.material.mu * state_.pressure;
+  rec.normal_iterations = r.iterations;
+  rec.normal_residual = r.residual;
+  return true;
+}
+
+// One tangential increment, skipped when neither its load nor the bound changed (the QP's
+// solution is then the previous traction).
+void Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec) {
+  TangentialOperator& op = *model_.tangential_operator;
+  TangentialIncrement inc;
+  const VecField tau0 = state_.traction, u0 = state_.displacement;
+  inc.bound = &bound_;
+  inc.tau0 = &tau0;
+  inc.u0 = &u0;
+  if (ls.control == Control::displacement) {
+    inc.control = TangentialControl::displacement;
+    inc.target = op.to_local(ls.target - state_.shift);
+  } else {
+    inc.control = TangentialControl::force;
+    const double scale = ls.relative ? model_.scenario.material.mu * state_.normal_force : 1.0;
+    inc.target = op.to_local(ls.target * scale);
+  }
+  const bool same_load = last_target_.size() == inc.target.size() &&
+                         (inc.control == TangentialControl::force ? last_target_ == inc.target
+                                                                  : inc.target.isZero(0.0));
+  last_target_ = inc.target;
+  if (same_load && !bound_changed) return;
+  const TangentialResult r = model_.tangential->solve(inc, state_.traction, state_.displacement);
+  rec.tangential_iterations = r.iterations;
+  rec.tangential_residual = r.residual;
+  state_.shift += op.to_global(r.shift);
+  state_.classify(bound_, model_.scenario.solver.tolerance);
+  accumulate_slip(u0, r.shift, rec);
+}
+
+// solver.monotone = shortcut: steps on the virgin monotone segment that starts at step 0, at
+// constant normal load, with the one-component analogy operator.
+bool Stepper::shortcut_applies(std::size_t k) const {
+  const Model& m = model_;
+  return m.scenario.solver.shortcut && m.tangential_operator->components() == 1 &&
+         m.scenario.solver.coupling == Coupling::analogy && m.path.monotone(0, k);
+}
+
+// Ciavarella–Jäger superposition instead of an incremental solve (monotone_shortcut.hpp); the
+// state, slip and dissipation bookkeeping are those of an incremental step to the same load.
+void Stepper::shortcut_step(const LoadStep& ls, StepRecord& rec) {
+  TangentialOperator& op = *model_.tangential_operator;
+  const Material& mat = model_.scenario.material;
+  const Vec2 e = op.direction();
+  const double ratio = model_.half_space->tangential_ratio();
+  const double scale = ls.relative ? mat.mu * state_.normal_force : 1.0;
+  const double target = e.dot(ls.target * (ls.control == Control::force ? scale : 1.0));
+  const double sign = target < 0.0 ? -1.0 : 1.0;
+  NormalSolver& ns = *model_.normal;
+  const ShortcutResult r =
+      ls.control == Control::force
+          ? ciavarella_jaeger_force(ns, model_.surface, state_.pressure, state_.normal_force,
+                                    state_.indentation, mat.mu, ratio, std::abs(target))
+          : ciavarella_jaeger_shift(ns, model_.surface, state_.pressure, state_.indentation, mat.mu,
+                                    ratio, std::abs(target));
+  const VecField u0 = state_.displacement;
+  state_.traction[0] = sign * r.traction;
+  op.apply(state_.traction, state_.displacement);
+  Eigen::VectorXd dU(1);
+  dU(0) = sign * r.shift - e.dot(state_.shift);
+  state_.shift += dU(0) * e;
+  rec.tangential_iterations = r.corrective.iterations;
+  rec.tangential_residual = r.corrective.residual;
+  last_target_ = op.to_local(ls.target * (ls.control == Control::force ? scale : 1.0));
+  state_.classify(bound_, model_.scenario.solver.tolerance);
+  accumulate_slip(u0, dU, rec);
+}
+
+// Slip increment s = dU - (u - u0) per slip node (stick nodes do not slip: what the solver
+// leaves there is its residual); Coulomb dissipation tau . s with the end-of-step traction
+// (exact: a node slips only at the bound). The wear law, when there is one, takes the same s.
+void Stepper::accumulate_slip(const VecField& u0, const Eigen::VectorXd& dU, StepRecord&) {
+  const int nc = int(state_.traction.size());
+  Field work = Field::Zero(bound_.rows(), bound_.cols());
+  Field len2 = work;
+  const Field slipping = (state_.state == std::uint8_t(NodeState::slip)).cast<double>();
+  VecField s(nc);
+  for (int c = 0; c < nc; ++c) {
+    s[c] = slipping * (dU(c) - (state_.displacement[c] - u0[c]));
+    state_.slip[c] += s[c];
+    work += state_.traction[c] * s[c];
+    len2 += s[c].square();
+  }
+  state_.slip_path += len2.sqrt();
+  state_.dissipation += work;
+  const double h2 = model_.half_space->grid().cell_area();
+  dissipation_ += work.sum() * h2;
+  if (!model_.wear) return;  // no wear arithmetic without a wear law
+  const Field dh = model_.wear->increment(state_.pressure, state_.traction, s);
+  state_.wear += dh;
+  wear_volume_ += dh.sum() * h2;
+}
+
+}  // namespace fretbem

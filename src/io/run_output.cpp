@@ -1,0 +1,166 @@
+#include "fretbem/io/run_output.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "fretbem/core/errors.hpp"
+
+namespace fretbem {
+
+namespace {
+
+// Global x (c = 0) or y (c = 1) component of a field stored in the operator's basis.
+Field global_component(const VecField& v, const TangentialOperator& op, int c) {
+  if (op.components() == 2) return v[c];
+  return v[0] * (c == 0 ? op.direction().x() : op.direction().y());
+}
+
+void check_finite(const StepRecord& rec, bool kx_on) {
+  const auto vals = rec.values();
+  const auto& cols = StepRecord::columns();
+  for (std::size_t i = 0; i < vals.size(); ++i) {
+    if (std::isfinite(vals[i]) || (cols[i] == "kx" && !kx_on)) continue;
+    throw SolverError("step " + std::to_string(rec.step) + ": " + cols[i] +
+                      " is not finite; the run stops here (rows so far are written)");
+  }
+}
+
+}  // namespace
+
+std::map<std::string, Field> output_fields(const std::vector<std::string>& names,
+                                           const InterfaceState& s, const Model& m) {
+  const TangentialOperator& op = *m.tangential_operator;
+  std::map<std::string, Field> out;
+  for (const auto& n : names) {
+    if (n == "pressure") out[n] = s.pressure;
+    if (n == "traction_x") out[n] = global_component(s.traction, op, 0);
+    if (n == "traction_y") out[n] = global_component(s.traction, op, 1);
+    if (n == "state") out[n] = s.state.cast<double>();
+    if (n == "slip_x") out[n] = global_component(s.slip, op, 0);
+    if (n == "slip_y") out[n] = global_component(s.slip, op, 1);
+    if (n == "dissipation") out[n] = s.dissipation;
+    if (n == "wear") out[n] = s.wear;
+  }
+  return out;
+}
+
+namespace {
+
+// Keeps the header and the first `rows` data rows of DIR/NAME.csv (resume).
+void truncate_csv(const std::filesystem::path& dir, const std::string& name, long rows) {
+  if (rows < 0) return;
+  const auto path = dir / (name + ".csv");
+  std::ifstream in(path);
+  if (!in) return;
+  std::string line, kept;
+  for (long k = 0; k <= rows && std::getline(in, line); ++k) kept += line + "\n";
+  in.close();
+  std::ofstream(path, std::ios::trunc) << kept;
+}
+
+}  // namespace
+
+io::CsvWriter open_csv(const std::filesystem::path& dir, const std::string& name,
+                       const std::vector<std::string>& cols, long resume_rows) {
+  truncate_csv(dir, name, resume_rows);
+  return io::CsvWriter(dir, name, cols, resume_rows >= 0);
+}
+
+TimeseriesCsv::TimeseriesCsv(const std::filesystem::path& dir, long resume_rows)
+    : csv_(open_csv(dir, "timeseries", StepRecord::columns(), resume_rows)) {}
+
+void TimeseriesCsv::on_step(const StepRecord& rec, const InterfaceState&, const Model& m) {
+  check_finite(rec, m.stiffness != nullptr);
+  csv_.row(rec.values());
+}
+
+ResultFile::ResultFile(const std::filesystem::path& dir, const Model& m, long resume_rows)
+    : h5_(resume_rows >= 0 ? io::Hdf5Writer::open_existing(dir) : io::Hdf5Writer(dir)) {
+  if (resume_rows >= 0) {
+    h5_.truncate_timeseries(std::size_t(resume_rows));
+    return;
+  }
+  h5_.write_text("/scenario", m.scenario.resolved_text);
+  h5_.write_field("/surface/initial", m.surface0);
+  h5_.start_timeseries(StepRecord::columns());
+}
+
+void ResultFile::on_step(const StepRecord& rec, const InterfaceState& s, const Model& m) {
+  h5_.append_row(rec.values());
+  const auto& out = m.scenario.output;
+  if (out.fields.empty()) return;  // fields only when asked
+  const bool last = std::size_t(rec.step) + 1 == m.path.steps.size();
+  const bool every = out.fields_every > 0 && rec.step % out.fields_every == 0;
+  if (every || rec.turning || last)
+    h5_.write_step_fields(rec.step, rec.time, output_fields(out.fields, s, m));
+}
+
+void ResultFile::on_finish(const InterfaceState&, const Model& m) {
+  h5_.write_field("/surface/final", m.surface);
+}
+
+const std::vector<std::string>& CycleSummary::columns() {
+  static const std::vector<std::string> c{"cycle",     "steps",        "dissipated_energy",
+                                          "loop_area", "Fx_amplitude", "Ux_amplitude",
+                                          "kx_at_max", "kx_at_min",    "slip_area_at_peak"};
+  return c;
+}
+
+CycleSummary::CycleSummary(const std::filesystem::path& dir, long resume_rows)
+    : csv_(open_csv(dir, "cycles", columns(), resume_rows)) {}
+
+void CycleSummary::on_step(const StepRecord& r, const InterfaceState&, const Model&) {
+  if (!have_prev_ || r.step == 0) {
+    prev_ = r, have_prev_ = true;
+    return;
+  }
+  const int cycle = int(std::ceil(r.time - 1e-12)) - 1;
+  if (cycle != cycle_) {
+    flush_cycle();
+    cycle_ = cycle, diss0_ = prev_.dissipation, loop_ = 0, steps_ = 0, peak_ = -1;
+    fmin_ = fmax_ = prev_.Fx, umin_ = umax_ = prev_.Ux;
+  }
+  // Work of the tangential force over the step (trapezoid): the loop area over a cycle.
+  loop_ +=
+      0.5 * (r.Fx + prev_.Fx) * (r.Ux - prev_.Ux) + 0.5 * (r.Fy + prev_.Fy) * (r.Uy - prev_.Uy);
+  fmin_ = std::min(fmin_, r.Fx), fmax_ = std::max(fmax_, r.Fx);
+  umin_ = std::min(umin_, r.Ux), umax_ = std::max(umax_, r.Ux);
+  if (r.turning && r.Fx >= fmax_) k_at_max_ = r.kx;
+  if (r.turning && r.Fx <= fmin_) k_at_min_ = r.kx;
+  if (r.turning && std::abs(r.Fx) > peak_) peak_ = std::abs(r.Fx), slip_at_peak_ = r.slip_area;
+  ++steps_;
+  prev_ = r;
+}
+
+void CycleSummary::flush_cycle() {
+  if (cycle_ < 0 || steps_ == 0) return;
+  csv_.row({double(cycle_), double(steps_), prev_.dissipation - diss0_, loop_,
+            0.5 * (fmax_ - fmin_), 0.5 * (umax_ - umin_), k_at_max_, k_at_min_, slip_at_peak_});
+}
+
+void CycleSummary::on_finish(const InterfaceState&, const Model&) {
+  flush_cycle();
+  cycle_ = -1;
+}
+
+ProgressLine::ProgressLine(std::size_t total)
+    : total_(total), start_(std::chrono::steady_clock::now()), last_(start_) {}
+
+void ProgressLine::on_step(const StepRecord& rec, const InterfaceState&, const Model&) {
+  using namespace std::chrono;
+  const auto now = steady_clock::now();
+  const double elapsed = duration<double>(now - start_).count();
+  if (elapsed < 1.0 || duration<double>(now - last_).count() < 0.25) return;
+  last_ = now;
+  const double done = double(rec.step + 1) / double(total_);
+  std::fprintf(stderr, "\rstep %d/%zu  cycle %d  elapsed %.1f s  ETA %.1f s   ", rec.step + 1,
+               total_, rec.cycle, elapsed, elapsed * (1.0 - done) / done);
+  shown_ = true;
+}
+
+void ProgressLine::on_finish(const InterfaceState&, const Model&) {
+  if (shown_) std::fprintf(stderr, "\n");
+}
+
+}  // namespace fretbem

@@ -1,0 +1,149 @@
+// `fretbem run` for scenarios with a wear law: the wear outputs and checkpoints around
+// integrate_wear.
+#include <chrono>
+#include <cstdio>
+
+#include "fretbem/io/checkpoint.hpp"
+#include "fretbem/core/errors.hpp"
+#include "fretbem/io/csv_writer.hpp"
+#include "fretbem/io/run_output.hpp"
+#include "fretbem/wear/integrator.hpp"
+
+namespace fretbem {
+
+namespace {
+
+// DIR/cycles.csv of a wear run: one row per simulated cycle (issue 6), then the bookkeeping
+// columns; the per-body volumes split wear_volume by wear.indenter_share.
+const std::vector<std::string>& wear_columns() {
+  static const std::vector<std::string> c{"N",
+                                          "energy_per_cycle",
+                                          "wear_volume",
+                                          "max_worn_depth",
+                                          "contact_radius",
+                                          "stick_area",
+                                          "peak_pressure",
+                                          "delta",
+                                          "max_slip",
+                                          "simulated_cycles",
+                                          "accepted",
+                                          "wear_volume_indenter",
+                                          "wear_volume_half_space"};
+  return c;
+}
+
+// DIR/cycles.csv, wear snapshots in result.h5, DIR/checkpoint.h5, a progress line.
+class WearFiles final : public WearLog {
+ public:
+  WearFiles(const Model& model, const Stepper& stepper, ResultFile& h5, bool quiet,
+            const WearCheckpoint* resume)
+      : model_(model),
+        stepper_(stepper),
+        csv_(open_csv(model.scenario.output.dir, "cycles", wear_columns(),
+                      resume ? resume->cycles_rows : -1)),
+        h5_(h5),
+        quiet_(quiet) {
+    if (resume) rows_ = resume->cycles_rows, snapshots_ = resume->snapshots;
+  }
+  void cycle(const WearCycle& c) override {
+    const double s = model_.scenario.wear.indenter_share;
+    csv_.row({c.N, c.energy, c.wear_volume, c.max_depth, c.contact_radius, c.stick_area,
+              c.peak_pressure, c.delta, c.max_slip, c.simulated, c.accepted ? 1.0 : 0.0,
+              s * c.wear_volume, (1.0 - s) * c.wear_volume});
+    ++rows_;
+    progress(c.N, c.simulated);
+  }
+  // The total worn depth (what the gap sees) and each body's share of it.
+  void snapshot(double N, const Field& worn, const Field& p) override {
+    h5_.writer().write_step_fields(snapshots_++, N,
+                                   {{"worn_depth", worn},
+                                    {"worn_depth_indenter", indenter_worn(model_, worn)},
+                                    {"worn_depth_half_space", half_space_worn(model_, worn)},
+                                    {"pressure", p}},
+                                   "/wear/snapshot_");
+  }
+  void step_done(const WearCheckpoint& at) override {
+    WearCheckpoint c = at;
+    c.cycles_rows = rows_, c.snapshots = snapshots_;
+    save_checkpoint(model_.scenario.output.dir, model_, stepper_, &c);
+  }
+  void done() {
+    if (shown_) std::fprintf(stderr, "\n");
+  }
+  const std::filesystem::path& path() const { return csv_.path(); }
+
+ private:
+  void progress(double N, double simulated) {
+    using namespace std::chrono;
+    const auto now = steady_clock::now();
+    if (quiet_ || duration<double>(now - last_).count() < 0.5) return;
+    last_ = now, shown_ = true;
+    std::fprintf(stderr, "\rwear: N %.6g / %.6g  simulated cycles %g   ", N,
+                 model_.scenario.wear.cycles, simulated);
+  }
+  const Model& model_;
+  const Stepper& stepper_;
+  io::CsvWriter csv_;
+  ResultFile& h5_;
+  bool quiet_, shown_ = false;
+  long rows_ = 0;
+  std::int64_t snapshots_ = 0;
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace
+
+WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume, long max_steps) {
+  const auto& dir = model.scenario.output.dir;
+  const WearCheckpoint* at = nullptr;
+  Stepper stepper(model);
+  if (resume) {
+    if (!resume->wear)
+      throw InputError((dir / "checkpoint.h5").string() + ": not a checkpoint of a wear run");
+    at = &*resume->wear;
+    model.surface = resume->surface;
+    stepper.restore(resume->state, resume->memory);
+  }
+  const long rows = at ? long(at->counters.rows) : -1;
+  TimeseriesCsv csv(dir, rows);
+  ResultFile h5(dir, model, rows);
+  WearFiles log(model, stepper, h5, quiet, at);
+  WearCycles sim(model, stepper, {&csv, &h5});
+  WearReport rep = integrate_wear(model, sim, &log, at, max_steps);
+  log.done();
+  if (rep.stopped) {
+    std::printf("fretbem: stopped at N = %.6g of %.6g; continue with: fretbem run --resume %s\n",
+                rep.N, model.scenario.wear.cycles, dir.string().c_str());
+    return rep;
+  }
+  h5.on_finish(stepper.state(), model);
+  // The surfaces of the two bodies: the indenter's height, and the half-space's surface
+  // height against its unworn plane (negative where worn). The contact saw their difference.
+  h5.writer().write_field("/surface/final", model.surface0 - indenter_worn(model, rep.worn));
+  h5.writer().write_field("/surface/final_half_space", -half_space_worn(model, rep.worn));
+  h5.writer().write_field("/wear/final_worn_depth", rep.worn);
+  h5.writer().write_field("/wear/final_worn_depth_indenter", indenter_worn(model, rep.worn));
+  h5.writer().write_field("/wear/final_worn_depth_half_space", half_space_worn(model, rep.worn));
+  if (!quiet && rep.newton_iterations > 0)
+    std::printf(
+        "fretbem: implicit wear steps: %ld Newton iterations (%ld convergence failures), %ld "
+        "Krylov iterations, %ld inner CG iterations\n",
+        rep.newton_iterations, rep.newton_failures, rep.krylov_iterations, rep.inner_iterations);
+  if (!quiet) {
+    const double V = rep.worn.sum() * model.scenario.grid.cell_area();
+    const double s = model.scenario.wear.indenter_share;
+    std::printf(
+        "fretbem: wear to N = %.6g with %.6g simulated cycles (%d wear-map evaluations, "
+        "%ld %s integrator steps, %ld rejected)\n  worn volume: %.6g m^3 (indenter %.6g, "
+        "half-space %.6g)\n  cycles:      %s\n  time series: %s\n  fields:      %s\n",
+        rep.N, rep.simulated_cycles, rep.rhs_evaluations, rep.steps,
+        model.scenario.wear.integrator == WearIntegrator::cycle ? "cycle"
+        : rep.implicit                                          ? "implicit (SDIRK)"
+                                                                : "explicit (ERK)",
+        rep.rejected, V, s * V, (1.0 - s) * V, log.path().string().c_str(),
+        csv.path().string().c_str(), h5.path().string().c_str());
+  }
+  return rep;
+}
+
+}  // namespace fretbem

@@ -1,0 +1,314 @@
+#include "fretbem/study/ensemble.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <boost/math/distributions/students_t.hpp>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "fretbem/core/errors.hpp"
+#include "fretbem/scenario/scenario.hpp"
+
+extern char** environ;
+
+namespace fretbem {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Shortest decimal that reads back to the same double (so H = 0.3 is passed as "0.3").
+std::string shortest(double v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+struct Member {
+  double hurst = 0;
+  int seed = 0;
+  fs::path dir;
+  pid_t pid = -1;
+  int exit_code = -1;
+  double seconds = 0;
+  std::chrono::steady_clock::time_point start;
+};
+
+}  // namespace
+
+std::vector<double> parse_hurst_list(const std::string& list) {
+  std::vector<double> out;
+  std::stringstream ss(list);
+  for (std::string tok; std::getline(ss, tok, ',');) {
+    double v = 0;
+    const auto r = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+    if (tok.empty() || r.ec != std::errc() || r.ptr != tok.data() + tok.size() ||
+        !(v > 0 && v <= 1))
+      throw InputError("--hurst: '" + tok + "' is not a Hurst exponent in (0, 1]");
+    out.push_back(v);
+  }
+  if (out.empty()) throw InputError("--hurst: empty list");
+  return out;
+}
+
+fs::path member_dir(double hurst, int seed) {
+  char s[32];
+  std::snprintf(s, sizeof s, "seed_%03d", seed);
+  std::string h = "H";  // appended, not "H" + ...: GCC 12 -Wrestrict false positive
+  h += shortest(hurst);
+  return fs::path(h) / s;
+}
+
+namespace {
+
+// The member's command line: the user's overrides, then the member's surface, single-threaded
+// FFTs first so that a user --set solver.threads still wins. Identical to what a user types
+// to rerun the member alone (see docs/paper-reproduction.md).
+std::vector<std::string> member_args(const EnsembleOptions& o, const Member& m) {
+  std::vector<std::string> a{
+      o.binary.string(),        "run",   o.scenario.string(), "--quiet", "--out",
+      (o.out / m.dir).string(), "--set", "solver.threads=1"};
+  for (const auto& s : o.sets) a.insert(a.end(), {"--set", s});
+  a.insert(a.end(), {"--set", "surface.hurst=" + shortest(m.hurst), "--set",
+                     "surface.seed=" + std::to_string(m.seed)});
+  return a;
+}
+
+// Starts one member with stdout and stderr in its directory's log.txt.
+void spawn(const EnsembleOptions& o, Member& m) {
+  fs::create_directories(o.out / m.dir);
+  const std::string log = (o.out / m.dir / "log.txt").string();
+  std::vector<std::string> args = member_args(o, m);
+  std::vector<char*> argv;
+  for (auto& s : args) argv.push_back(s.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  m.start = std::chrono::steady_clock::now();
+  const int rc = posix_spawn(&m.pid, argv[0], &fa, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) m.pid = -1, m.exit_code = 127;
+}
+
+std::string last_line(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty() && line.find_first_not_of(" \r") != std::string::npos) last = line;
+  return last.empty() ? "(no output)" : last;
+}
+
+void report(const EnsembleOptions& o, const Member& m, int done, int total) {
+  const bool ok = m.exit_code == 0;
+  if (!ok)
+    std::fprintf(stderr, "fretbem ensemble: member %s failed (exit %d): %s\n",
+                 m.dir.string().c_str(), m.exit_code, last_line(o.out / m.dir / "log.txt").c_str());
+  else if (!o.quiet)
+    std::fprintf(stderr, "[%d/%d] %s ok, %.1f s\n", done, total, m.dir.string().c_str(), m.seconds);
+}
+
+// Runs the members, at most `jobs` at a time; fills exit codes and wall times.
+void run_members(const EnsembleOptions& o, std::vector<Member>& members, int jobs) {
+  std::map<pid_t, Member*> running;
+  std::size_t next = 0;
+  int done = 0;
+  while (next < members.size() || !running.empty()) {
+    while (next < members.size() && int(running.size()) < jobs) {
+      Member& m = members[next++];
+      spawn(o, m);
+      if (m.pid > 0)
+        running[m.pid] = &m;
+      else
+        report(o, m, ++done, int(members.size()));
+    }
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, 0);
+    const auto it = running.find(pid);
+    if (pid < 0 || it == running.end()) continue;
+    Member& m = *it->second;
+    running.erase(it);
+    m.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m.start).count();
+    report(o, m, ++done, int(members.size()));
+  }
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  for (std::string t; std::getline(ss, t, ',');) out.push_back(t);
+  return out;
+}
+
+}  // namespace
+
+MemberCurve read_member_curve(const fs::path& csv, double mu) {
+  std::ifstream in(csv);
+  std::string line;
+  if (!in || !std::getline(in, line)) throw InputError(csv.string() + ": cannot read");
+  const auto head = split(line);
+  auto col = [&](const std::string& name) {
+    for (std::size_t i = 0; i < head.size(); ++i)
+      if (head[i] == name) return i;
+    throw InputError(csv.string() + ": no column '" + name + "'");
+  };
+  const std::size_t cFz = col("Fz"), cFx = col("Fx"), cA = col("contact_area"),
+                    cS = col("stick_area"), cFs = col("Fx_stick"), cK = col("kx");
+  MemberCurve c;
+  double A0 = 0, k0 = 0;
+  for (int row = 0; std::getline(in, line); ++row) {
+    const auto v = split(line);
+    auto num = [&](std::size_t i) { return i < v.size() ? std::stod(v[i]) : kNaN; };
+    const double muFz = mu * num(cFz), f = num(cFx) / muFz;
+    if (row == 0) A0 = num(cA), k0 = num(cK);
+    if (!c.f.empty() && !(f > c.f.back())) continue;  // only where F_x still rises
+    c.f.push_back(f);
+    c.stick.push_back(num(cS) / A0);
+    c.kx.push_back(num(cK) / k0);
+    c.fstick.push_back(num(cFs) / muFz);
+  }
+  if (c.f.empty()) throw InputError(csv.string() + ": no rows");
+  return c;
+}
+
+double interpolate(const std::vector<double>& x, const std::vector<double>& y, double xq) {
+  if (x.empty() || !(xq >= x.front() && xq <= x.back())) return kNaN;
+  std::size_t i = 1;
+  while (i + 1 < x.size() && x[i] < xq) ++i;
+  if (x.size() == 1) return y[0];
+  const double t = (xq - x[i - 1]) / (x[i] - x[i - 1]);
+  return y[i - 1] + t * (y[i] - y[i - 1]);
+}
+
+MeanCi mean_ci95(const std::vector<double>& v) {
+  MeanCi r;
+  double s = 0, s2 = 0;
+  for (double x : v)
+    if (std::isfinite(x)) ++r.n, s += x;
+  if (r.n == 0) return {kNaN, kNaN, 0};
+  r.mean = s / r.n;
+  for (double x : v)
+    if (std::isfinite(x)) s2 += (x - r.mean) * (x - r.mean);
+  if (r.n < 2) return r.half_width = kNaN, r;
+  const boost::math::students_t t(r.n - 1);
+  r.half_width = boost::math::quantile(t, 0.975) * std::sqrt(s2 / (r.n - 1) / r.n);
+  return r;
+}
+
+namespace {
+
+// DIR/members.csv: one row per member with exit code and wall time.
+void write_members(const fs::path& file, const std::vector<Member>& members) {
+  std::ofstream out(file);
+  out << "hurst,seed,dir,exit_code,wall_seconds\n";
+  for (const auto& m : members)
+    out << shortest(m.hurst) << ',' << m.seed << ',' << m.dir.generic_string() << ',' << m.exit_code
+        << ',' << m.seconds << '\n';
+}
+
+std::string fmt(double v) {
+  return std::isfinite(v) ? shortest(v) : "nan";
+}
+
+// DIR/aggregate.csv: per H and bin, each member's curve interpolated at the bin centre (not
+// raw points binned), then mean and 95 % Student-t interval over the members covering it.
+using Curves = std::map<const Member*, MemberCurve>;
+
+// Reads every successful member's curve; a member whose time series cannot be read counts as
+// failed (exit code -1) and is reported.
+Curves load_curves(const EnsembleOptions& o, std::vector<Member>& members, double mu) {
+  Curves curves;
+  for (auto& m : members) {
+    if (m.exit_code != 0) continue;
+    try {
+      curves[&m] = read_member_curve(o.out / m.dir / "timeseries.csv", mu);
+    } catch (const std::exception& e) {
+      m.exit_code = -1;
+      std::fprintf(stderr, "fretbem ensemble: member %s: %s\n", m.dir.string().c_str(), e.what());
+    }
+  }
+  return curves;
+}
+
+void write_aggregate(const EnsembleOptions& o, const std::vector<Member>& members,
+                     const Curves& all) {
+  std::ofstream out(o.out / "aggregate.csv");
+  out << "hurst,bin,f_lo,f_hi,f_centre,members,failed,stick_area_mean,stick_area_ci95,"
+         "kx_mean,kx_ci95,Fx_stick_mean,Fx_stick_ci95\n";
+  for (double H : o.hurst) {
+    std::vector<MemberCurve> curves;
+    int failed = 0;
+    for (const auto& m : members) {
+      if (m.hurst != H) continue;
+      if (m.exit_code != 0)
+        ++failed;
+      else
+        curves.push_back(all.at(&m));
+    }
+    for (int b = 0; b < o.bins; ++b) {
+      const double lo = double(b) / o.bins, hi = double(b + 1) / o.bins, fc = 0.5 * (lo + hi);
+      std::vector<double> A, K, Fs;
+      for (const auto& c : curves) {
+        A.push_back(interpolate(c.f, c.stick, fc));
+        K.push_back(interpolate(c.f, c.kx, fc));
+        Fs.push_back(interpolate(c.f, c.fstick, fc));
+      }
+      const MeanCi a = mean_ci95(A), k = mean_ci95(K), s = mean_ci95(Fs);
+      out << shortest(H) << ',' << b << ',' << fmt(lo) << ',' << fmt(hi) << ',' << fmt(fc) << ','
+          << a.n << ',' << failed << ',' << fmt(a.mean) << ',' << fmt(a.half_width) << ','
+          << fmt(k.mean) << ',' << fmt(k.half_width) << ',' << fmt(s.mean) << ','
+          << fmt(s.half_width) << '\n';
+    }
+  }
+}
+
+}  // namespace
+
+int run_ensemble(const EnsembleOptions& opt) {
+  EnsembleOptions o = opt;
+  if (o.hurst.empty()) throw InputError("ensemble: --hurst is required");
+  if (o.seeds < 1) throw InputError("--seeds: must be >= 1, got " + std::to_string(o.seeds));
+  if (o.jobs < 0) throw InputError("--jobs: must be >= 1, got " + std::to_string(o.jobs));
+  if (o.bins < 1) throw InputError("--bins: must be >= 1, got " + std::to_string(o.bins));
+  if (o.jobs == 0) o.jobs = int(std::max(1u, std::thread::hardware_concurrency()));
+  if (o.binary.empty()) o.binary = fs::read_symlink("/proc/self/exe");
+  // Validate every member's scenario up front (one line naming the key on bad input).
+  double mu = 0;
+  for (double H : o.hurst) {
+    auto sets = o.sets;
+    sets.push_back("surface.hurst=" + shortest(H));
+    mu = load_scenario(o.scenario, sets).material.mu;
+  }
+  if (o.out.empty()) o.out = fs::path("out") / ("ensemble_" + o.scenario.stem().string());
+  fs::create_directories(o.out);
+  std::vector<Member> members;
+  for (double H : o.hurst)
+    for (int s = 1; s <= o.seeds; ++s) {
+      Member m;
+      m.hurst = H, m.seed = s, m.dir = member_dir(H, s);
+      members.push_back(m);
+    }
+  run_members(o, members, o.jobs);
+  const Curves curves = load_curves(o, members, mu);
+  write_members(o.out / "members.csv", members);
+  write_aggregate(o, members, curves);
+  int failed = 0;
+  for (const auto& m : members) failed += m.exit_code != 0;
+  return failed;
+}
+
+}  // namespace fretbem

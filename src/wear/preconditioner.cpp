@@ -1,0 +1,68 @@
+// WearPreconditioner: exact solve of the frozen-slip Newton matrix of the wear ODE (see the
+// header for the derivation).
+#include "fretbem/wear/preconditioner.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "fretbem/core/errors.hpp"
+
+namespace fretbem {
+
+WearPreconditioner::WearPreconditioner(HalfSpace& half_space, bool force_control, double tolerance)
+    : hs_(half_space), force_control_(force_control), tol_(tolerance) {}
+
+void WearPreconditioner::setup(const Field& pressure, const Field& wear_per_cycle) {
+  mask_ = (pressure > 0.0).cast<double>();
+  d_ = mask_ * (wear_per_cycle / pressure.max(1e-300)).max(0.0);
+  cached_gamma_ = -1.0;
+  ready_ = (mask_ > 0.0).any();
+}
+
+void WearPreconditioner::solve(const Field& b, double gamma, Field& x) {
+  if (!ready_) {
+    x = b;
+    return;
+  }
+  Field& q = q_;
+  cg(-(b * mask_), gamma, q);
+  if (force_control_) {
+    // The rigid approach d_delta keeps the normal force: sum q = 0 (superposition of the
+    // response to -b and to a unit approach on A).
+    if (gamma != cached_gamma_) {
+      cg(mask_, gamma, ones_solution_);
+      cached_gamma_ = gamma;
+    }
+    q -= (q.sum() / ones_solution_.sum()) * ones_solution_;
+  }
+  x = b + gamma * d_ * q;
+}
+
+// Jacobi-preconditioned CG for (C_A + gamma D) q = r on A. The operator is SPD on A: C is (the
+// Boussinesq influence matrix), gamma D >= 0.
+void WearPreconditioner::cg(const Field& r, double gamma, Field& q) {
+  diag_ = mask_ * (hs_.normal_self() + gamma * d_) + (1.0 - mask_);
+  q.setZero(r.rows(), r.cols());
+  r_ = r * mask_;
+  const double r0 = std::sqrt((r_ * r_).sum());
+  if (r0 == 0.0) return;
+  z_ = r_ / diag_;
+  s_ = z_;
+  double rz = (r_ * z_).sum();
+  for (int it = 0; it < 1000; ++it) {
+    hs_.normal(s_, u_);
+    t_ = mask_ * (u_ + gamma * d_ * s_);
+    const double alpha = rz / (s_ * t_).sum();
+    q += alpha * s_;
+    r_ -= alpha * t_;
+    ++iterations_;
+    if (std::sqrt((r_ * r_).sum()) <= tol_ * r0) return;
+    z_ = r_ / diag_;
+    const double rz_new = (r_ * z_).sum();
+    s_ = z_ + (rz_new / rz) * s_;
+    rz = rz_new;
+  }
+  throw SolverError("wear preconditioner: inner CG not converged in 1000 iterations");
+}
+
+}  // namespace fretbem
