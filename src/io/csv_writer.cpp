@@ -44,13 +44,6 @@ Existing read_existing(const fs::path& path) {
 
 }  // namespace
 
-std::string format_number(double v) {
-  if (std::isnan(v)) return "nan";  // to_chars would give "-nan" for a negative NaN
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
 CsvWriter::CsvWriter(const fs::path& dir, const std::string& name,
                      const std::vector<std::string>& columns, bool append)
     : path_(dir / (name + ".csv")), ncols_(columns.size()) {

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/format.hpp"
 #include "fretbem/scenario/scenario.hpp"
 
 extern char** environ;
@@ -28,13 +29,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// Shortest decimal that reads back to the same double (so H = 0.3 is passed as "0.3").
-std::string shortest(double v) {
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
 
 struct Member {
   double hurst = 0;
@@ -67,7 +61,7 @@ fs::path member_dir(double hurst, int seed) {
   char s[32];
   std::snprintf(s, sizeof s, "seed_%03d", seed);
   std::string h = "H";  // appended, not "H" + ...: GCC 12 -Wrestrict false positive
-  h += shortest(hurst);
+  h += format_number(hurst);
   return fs::path(h) / s;
 }
 
@@ -81,7 +75,7 @@ std::vector<std::string> member_args(const EnsembleOptions& o, const Member& m) 
       o.binary.string(),        "run",   o.scenario.string(), "--quiet", "--out",
       (o.out / m.dir).string(), "--set", "solver.threads=1"};
   for (const auto& s : o.sets) a.insert(a.end(), {"--set", s});
-  a.insert(a.end(), {"--set", "surface.hurst=" + shortest(m.hurst), "--set",
+  a.insert(a.end(), {"--set", "surface.hurst=" + format_number(m.hurst), "--set",
                      "surface.seed=" + std::to_string(m.seed)});
   return a;
 }
@@ -216,12 +210,12 @@ void write_members(const fs::path& file, const std::vector<Member>& members) {
   std::ofstream out(file);
   out << "hurst,seed,dir,exit_code,wall_seconds\n";
   for (const auto& m : members)
-    out << shortest(m.hurst) << ',' << m.seed << ',' << m.dir.generic_string() << ',' << m.exit_code
+    out << format_number(m.hurst) << ',' << m.seed << ',' << m.dir.generic_string() << ',' << m.exit_code
         << ',' << m.seconds << '\n';
 }
 
 std::string fmt(double v) {
-  return std::isfinite(v) ? shortest(v) : "nan";
+  return std::isfinite(v) ? format_number(v) : "nan";
 }
 
 // DIR/aggregate.csv: per H and bin, each member's curve interpolated at the bin centre (not
@@ -268,7 +262,7 @@ void write_aggregate(const EnsembleOptions& o, const std::vector<Member>& member
         Fs.push_back(interpolate(c.f, c.fstick, fc));
       }
       const MeanCi a = mean_ci95(A), k = mean_ci95(K), s = mean_ci95(Fs);
-      out << shortest(H) << ',' << b << ',' << fmt(lo) << ',' << fmt(hi) << ',' << fmt(fc) << ','
+      out << format_number(H) << ',' << b << ',' << fmt(lo) << ',' << fmt(hi) << ',' << fmt(fc) << ','
           << a.n << ',' << failed << ',' << fmt(a.mean) << ',' << fmt(a.half_width) << ','
           << fmt(k.mean) << ',' << fmt(k.half_width) << ',' << fmt(s.mean) << ','
           << fmt(s.half_width) << '\n';
@@ -290,7 +284,7 @@ int run_ensemble(const EnsembleOptions& opt) {
   double mu = 0;
   for (double H : o.hurst) {
     auto sets = o.sets;
-    sets.push_back("surface.hurst=" + shortest(H));
+    sets.push_back("surface.hurst=" + format_number(H));
     mu = load_scenario(o.scenario, sets).material.mu;
   }
   if (o.out.empty()) o.out = fs::path("out") / ("ensemble_" + o.scenario.stem().string());

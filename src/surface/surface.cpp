@@ -20,6 +20,7 @@
 #include <string_view>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/format.hpp"
 
 namespace fretbem {
 
@@ -644,12 +645,10 @@ Field load_text(const std::filesystem::path& file) {
 void save_text(const std::filesystem::path& file, const Field& z) {
   std::ofstream os(file, std::ios::trunc);
   if (!os) file_error(file, "cannot open for writing");
-  char buf[32];
   for (Eigen::Index j = 0; j < z.cols(); ++j) {
     for (Eigen::Index i = 0; i < z.rows(); ++i) {
-      const auto r = std::to_chars(buf, buf + sizeof buf, z(i, j));  // shortest round-trip
       if (i) os.put(' ');
-      os.write(buf, r.ptr - buf);
+      os << format_number(z(i, j));
     }
     os.put('\n');
   }

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "fretbem/core/format.hpp"
+
 namespace fretbem::io {
 
 class CsvWriter {
@@ -38,8 +40,5 @@ class CsvWriter {
   std::size_t ncols_ = 0;
   std::unique_ptr<std::FILE, Close> file_;
 };
-
-/// Shortest text that reads back to exactly v ("nan", "inf", "-inf" for non-finite values).
-std::string format_number(double v);
 
 }  // namespace fretbem::io

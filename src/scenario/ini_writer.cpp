@@ -1,0 +1,159 @@
+// The resolved scenario text written into every result file: each key with its final value.
+#include <optional>
+#include <sstream>
+
+#include "fretbem/core/format.hpp"
+#include "sections.hpp"
+
+namespace fretbem::scenario_detail {
+
+namespace {
+
+// ---- resolved text: every key with its final value; unset optional keys as comments ----
+
+class IniWriter {
+ public:
+  void section(const std::string& name) {
+    out_ << (out_.tellp() > 0 ? "\n[" : "[") << name << "]\n";
+  }
+  void put(const std::string& key, const std::string& value) {
+    out_ << key << " = " << value << "\n";
+  }
+  void put(const std::string& key, double v) { put(key, format_number(v)); }
+  void put(const std::string& key, int v) { put(key, std::to_string(v)); }
+  void put(const std::string& key, bool v) { put(key, std::string(v ? "true" : "false")); }
+  void put(const std::string& key, const std::optional<double>& v) {
+    if (v)
+      put(key, *v);
+    else
+      out_ << "# " << key << " = (unset)\n";
+  }
+  void put(const std::string& key, const fs::path& p) {
+    if (p.empty())
+      out_ << "# " << key << " = (unset)\n";
+    else
+      put(key, p.string());
+  }
+  void raw(const std::string& line) { out_ << line << "\n"; }
+  std::string str() const { return out_.str(); }
+
+ private:
+  std::ostringstream out_;
+};
+
+void write_material(IniWriter& w, const Material& m) {
+  w.section("material");
+  w.put("E", m.body1.E);
+  w.put("nu", m.body1.nu);
+  w.put("E2", m.body2 ? std::optional<double>(m.body2->E) : std::nullopt);
+  w.put("nu2", m.body2 ? std::optional<double>(m.body2->nu) : std::nullopt);
+  w.put("mu", m.mu);
+}
+
+void write_grid(IniWriter& w, const Grid& g) {
+  w.section("grid");
+  if (g.nx == g.ny) {
+    w.put("n", g.nx);
+  } else {
+    w.put("nx", g.nx);
+    w.put("ny", g.ny);
+  }
+  w.put("length", g.length_x());
+  w.put("periodic", g.periodic);
+}
+
+void write_surface(IniWriter& w, const SurfaceSpec& s) {
+  static const char* types[] = {"sphere", "flat", "rough", "file"};
+  w.section("surface");
+  w.put("type", std::string(types[static_cast<int>(s.type)]));
+  w.put("radius", s.radius > 0 ? std::optional<double>(s.radius) : std::nullopt);
+  w.put("hurst", s.rough.hurst);
+  w.put("rms_height", s.rough.rms_height);
+  w.put("rms_slope", s.rough.rms_slope);
+  w.put("method", std::string(s.rough.method == RoughMethod::midpoint ? "midpoint" : "fourier"));
+  w.put("seed", std::to_string(s.rough.seed));
+  w.put("rolloff_wavelength", s.rough.rolloff_wavelength);
+  w.put("cutoff_wavelength", s.rough.cutoff_wavelength);
+  w.put("file", s.file);
+  if (s.dataset.empty())
+    w.raw("# dataset = (unset)");
+  else
+    w.put("dataset", s.dataset);
+}
+
+void write_load(IniWriter& w, const LoadSpec& l) {
+  static const char* paths[] = {"none", "ramp", "sine", "table"};
+  w.section("load");
+  w.put("normal_force", l.normal_force);
+  w.put("indentation", l.indentation);
+  w.put("path", std::string(paths[static_cast<int>(l.path)]));
+  w.put("control", std::string(l.control == Control::force ? "force" : "displacement"));
+  w.put("amplitude", l.amplitude);
+  w.put("displacement_amplitude", l.displacement_amplitude);
+  w.put("direction", l.direction);
+  w.put("cycles", l.cycles);
+  w.put("steps_per_cycle", l.steps_per_cycle);
+  w.put("steps", l.steps);
+  w.put("table", l.table);
+}
+
+void write_solver(IniWriter& w, const SolverSpec& s) {
+  w.section("solver");
+  w.put("tolerance", s.tolerance);
+  w.put("max_iterations", s.max_iterations);
+  w.put("coupling", std::string(s.coupling == Coupling::analogy ? "analogy" : "cerruti"));
+  w.put("threads", s.threads);
+  w.put("algorithm",
+        std::string(s.algorithm == TangentialAlgorithm::projected ? "projected" : "partition"));
+  w.put("stiffness", s.stiffness);
+  w.put("fft_plan", std::string(s.fft_measure ? "measure" : "estimate"));
+  w.put("fft_precision",
+        std::string(s.fft_precision == FftPrecision::float32 ? "float" : "double"));
+  w.put("monotone", std::string(s.shortcut ? "shortcut" : "incremental"));
+  w.put("precondition", std::string(s.precondition == Precondition::automatic ? "automatic"
+                                    : s.precondition == Precondition::on      ? "on"
+                                                                              : "off"));
+}
+
+void write_output(IniWriter& w, const OutputSpec& o) {
+  w.section("output");
+  w.put("dir", o.dir.string());
+  std::string fields;
+  for (const auto& f : o.fields) fields += (fields.empty() ? "" : ", ") + f;
+  w.put("fields", fields.empty() ? std::string("none") : fields);
+  w.put("fields_every", o.fields_every);
+  w.put("checkpoint_every", o.checkpoint_every);
+}
+
+void write_wear(IniWriter& w, const WearSpec& s) {
+  static const char* laws[] = {"none", "archard", "energy"};
+  w.section("wear");
+  w.put("law", std::string(laws[static_cast<int>(s.law)]));
+  // 0 means "not given" (both must be > 0 when given).
+  w.put("coefficient", s.coefficient > 0 ? std::optional<double>(s.coefficient) : std::nullopt);
+  w.put("cycles", s.cycles > 0 ? std::optional<double>(s.cycles) : std::nullopt);
+  static const char* integrators[] = {"arkode", "cycle", "erk", "dirk"};
+  w.put("integrator", std::string(integrators[static_cast<int>(s.integrator)]));
+  w.put("rtol", s.rtol);
+  w.put("atol", s.atol);
+  w.put("newton", std::string(s.newton == WearNewton::frozen ? "frozen" : "krylov"));
+  w.put("indenter_share", s.indenter_share);
+}
+
+}  // namespace
+
+std::string resolved_text(const Scenario& s) {
+  IniWriter w;
+  w.raw("# fretbem " FRETBEM_VERSION " resolved scenario '" + s.name + "'");
+  w.raw("# relative paths below were resolved against the scenario's folder");
+  write_material(w, s.material);
+  write_grid(w, s.grid);
+  write_surface(w, s.surface);
+  write_load(w, s.load);
+  write_solver(w, s.solver);
+  write_output(w, s.output);
+  write_wear(w, s.wear);
+  return w.str();
+}
+
+}  // namespace fretbem::scenario_detail

@@ -1,0 +1,305 @@
+// Section readers: convert and check every value, then the rules that tie keys together.
+#include "sections.hpp"
+
+#include <algorithm>
+#include <boost/program_options.hpp>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "fretbem/core/errors.hpp"
+#include "fretbem/core/format.hpp"
+#include "keys.hpp"
+
+namespace fretbem::scenario_detail {
+
+namespace po = boost::program_options;
+
+namespace {
+
+// Grid limits keep nx*ny and the 2nx x 2ny padded FFT grid inside a 32-bit int index.
+constexpr long long kMaxSide = 65536;
+constexpr long long kMaxNodes = 1LL << 28;
+
+}  // namespace
+
+void read_file_entries(const std::string& text, Reader& r) {
+  po::options_description desc;
+  for (const auto& k : kKeys) desc.add_options()(k.c_str(), po::value<std::string>());
+  std::istringstream in(text);
+  po::parsed_options parsed(&desc);
+  try {
+    parsed = po::parse_config_file(in, desc, /*allow_unregistered=*/true);
+  } catch (const std::exception& e) {
+    r.fail(printable(e.what()));
+  }
+  std::set<std::string> seen;
+  for (const auto& opt : parsed.options) {
+    const std::string key = normalise_key(opt.string_key);
+    const std::string value = opt.value.empty() ? std::string() : trim(opt.value.front());
+    if (short_name(key).empty())
+      r.fail("a line has no key before '=' (value '" + printable(value) + "')");
+    reject_unknown(key, r.file());
+    if (!seen.insert(key).second)
+      r.fail("duplicated key '" + key + "' (" + printable(r.raw(key)) + " and " + printable(value) +
+             ")");
+    r.set(key, Entry{value, ""});
+  }
+}
+
+void apply_override(const std::string& text, Reader& r) {
+  const std::string where = "--set " + printable(text);
+  const auto eq = text.find('=');
+  if (eq == std::string::npos) throw InputError(where + ": expected section.key=value");
+  const std::string key = normalise_key(text.substr(0, eq));
+  if (short_name(key).empty()) throw InputError(where + ": expected section.key=value");
+  reject_unknown(key, where);
+  r.set(key, Entry{trim(text.substr(eq + 1)), where});
+}
+
+void read_material(const Reader& r, Material& m) {
+  r.require("material.E");
+  r.require("material.nu");
+  m.body1 = Body{r.positive("material.E"), r.real_in("material.nu", 0.0, false, 0.5, true)};
+  if (r.has("material.E2") != r.has("material.nu2"))
+    r.fail("material.E2 and material.nu2 describe the second body: give both or neither");
+  if (r.has("material.E2"))
+    m.body2 = Body{r.positive("material.E2"), r.real_in("material.nu2", 0.0, false, 0.5, true)};
+  if (r.has("material.mu")) m.mu = r.positive("material.mu");
+}
+
+void read_grid(const Reader& r, Grid& g) {
+  const bool both = r.has("grid.nx") && r.has("grid.ny");
+  if (!both) r.require("grid.n", " (or both grid.nx and grid.ny)");
+  const long long n = r.has("grid.n") ? r.integer("grid.n", 2, kMaxSide) : 0;
+  const long long nx = r.has("grid.nx") ? r.integer("grid.nx", 2, kMaxSide) : n;
+  const long long ny = r.has("grid.ny") ? r.integer("grid.ny", 2, kMaxSide) : n;
+  if (nx * ny > kMaxNodes)
+    r.fail("grid of " + std::to_string(nx) + " x " + std::to_string(ny) +
+           " nodes is too large (at most 2^28 nodes)");
+  r.require("grid.length");
+  const double length = r.positive("grid.length");
+  g = Grid{static_cast<int>(nx), static_cast<int>(ny), length / static_cast<double>(nx),
+           r.has("grid.periodic") && r.boolean("grid.periodic")};
+}
+
+void read_rough(const Reader& r, RoughSpec& s) {
+  if (r.has("surface.hurst")) s.hurst = r.real_in("surface.hurst", 0.0, true, 1.0, false);
+  if (r.has("surface.rms_height")) s.rms_height = r.positive("surface.rms_height");
+  if (r.has("surface.rms_slope")) s.rms_slope = r.positive("surface.rms_slope");
+  if (r.has("surface.method"))
+    s.method = static_cast<RoughMethod>(r.choice("surface.method", {"midpoint", "fourier"}));
+  if (r.has("surface.seed")) s.seed = r.unsigned64("surface.seed");
+  if (r.has("surface.rolloff_wavelength"))
+    s.rolloff_wavelength = r.real_in("surface.rolloff_wavelength", 0.0, false);
+  if (r.has("surface.cutoff_wavelength"))
+    s.cutoff_wavelength = r.real_in("surface.cutoff_wavelength", 0.0, false);
+}
+
+void check_rough(const Reader& r, const RoughSpec& s) {
+  if (s.rms_height.has_value() == s.rms_slope.has_value())
+    r.fail("surface.type = rough needs exactly one of surface.rms_height and surface.rms_slope");
+  r.require("surface.seed",
+            " for surface.type = rough (results are reproducible only with an "
+            "explicit seed)");
+  if (s.rolloff_wavelength > 0 && s.cutoff_wavelength > 0 &&
+      s.cutoff_wavelength >= s.rolloff_wavelength)
+    r.fail("surface.cutoff_wavelength = " + format_number(s.cutoff_wavelength) +
+           " must be shorter than surface.rolloff_wavelength = " +
+           format_number(s.rolloff_wavelength));
+}
+
+void read_surface(const Reader& r, const fs::path& base, SurfaceSpec& s) {
+  if (r.has("surface.type"))
+    s.type =
+        static_cast<SurfaceType>(r.choice("surface.type", {"sphere", "flat", "rough", "file"}));
+  if (r.has("surface.radius")) s.radius = r.positive("surface.radius");
+  read_rough(r, s.rough);
+  if (r.has("surface.dataset")) s.dataset = r.raw("surface.dataset");
+  const bool is_file = s.type == SurfaceType::file;
+  if (r.has("surface.file")) s.file = r.path("surface.file", base, is_file);
+  if (s.type == SurfaceType::sphere) r.require("surface.radius", " for surface.type = sphere");
+  if (s.type == SurfaceType::rough) check_rough(r, s.rough);
+  if (is_file) r.require("surface.file", " for surface.type = file");
+}
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  for (std::string cell; std::getline(ss, cell, ',');) out.push_back(trim(cell));
+  return out;
+}
+
+// The table's header decides what it can drive; catch a mismatch here rather than mid-run.
+void check_table(const Reader& r, const LoadSpec& l) {
+  std::ifstream in(l.table);
+  std::string line;
+  while (std::getline(in, line) && (trim(line).empty() || trim(line)[0] == '#')) {
+  }
+  const std::vector<std::string> known = {"time", "Fz", "delta", "Fx", "Fy", "Ux", "Uy"};
+  std::set<std::string> cols;
+  for (const auto& c : split_csv_line(line)) {
+    if (std::find(known.begin(), known.end(), c) == known.end())
+      r.fail_value("load.table", "has an unknown column '" + printable(c) + "'" +
+                                     suggestion(c, known) +
+                                     "; columns: time, Fz, delta, Fx, "
+                                     "Fy, Ux, Uy");
+    cols.insert(c);
+  }
+  if (!cols.count("time")) r.fail_value("load.table", "has no 'time' column in its header row");
+  const bool normal_given = l.normal_force || l.indentation;
+  if (!normal_given && !cols.count("Fz") && !cols.count("delta"))
+    r.fail_value("load.table",
+                 "has neither Fz nor delta, and neither load.normal_force nor "
+                 "load.indentation is given");
+  if (normal_given && (cols.count("Fz") || cols.count("delta")))
+    r.fail_value("load.table",
+                 "has an Fz or delta column as well as a constant normal load "
+                 "key; give one");
+  const bool force_cols = cols.count("Fx") || cols.count("Fy");
+  const bool disp_cols = cols.count("Ux") || cols.count("Uy");
+  if (l.control == Control::force && disp_cols)
+    r.fail_value("load.table", "has Ux/Uy columns but load.control = force");
+  if (l.control == Control::displacement && force_cols)
+    r.fail_value("load.table", "has Fx/Fy columns but load.control = displacement");
+}
+
+void read_load_values(const Reader& r, const fs::path& base, LoadSpec& l) {
+  if (r.has("load.normal_force")) l.normal_force = r.positive("load.normal_force");
+  if (r.has("load.indentation")) l.indentation = r.positive("load.indentation");
+  if (r.has("load.path"))
+    l.path = static_cast<PathType>(r.choice("load.path", {"none", "ramp", "sine", "table"}));
+  if (r.has("load.control"))
+    l.control = static_cast<Control>(r.choice("load.control", {"force", "displacement"}));
+  if (r.has("load.amplitude")) l.amplitude = r.real("load.amplitude");
+  if (r.has("load.displacement_amplitude"))
+    l.displacement_amplitude = r.real("load.displacement_amplitude");
+  if (r.has("load.direction")) l.direction = r.real("load.direction");
+  if (r.has("load.cycles")) l.cycles = static_cast<int>(r.integer("load.cycles", 1, 1 << 30));
+  if (r.has("load.steps_per_cycle"))
+    l.steps_per_cycle = static_cast<int>(r.integer("load.steps_per_cycle", 4, 1 << 30));
+  if (r.has("load.steps")) l.steps = static_cast<int>(r.integer("load.steps", 1, 1 << 30));
+  if (r.has("load.table")) l.table = r.path("load.table", base, l.path == PathType::table);
+}
+
+void check_amplitudes(const Reader& r, const LoadSpec& l) {
+  if (l.path != PathType::ramp && l.path != PathType::sine) return;
+  if (l.control == Control::force) {
+    r.require("load.amplitude", " for a force-controlled ramp or sine");
+    if (l.amplitude >= 1.0)
+      r.fail_value("load.amplitude",
+                   "is impossible: a tangential force >= mu Fz cannot be held by friction "
+                   "(gross sliding); use a value < 1, or load.control = displacement");
+    if (l.amplitude <= 0.0) r.fail_value("load.amplitude", "is out of range (0, 1)");
+  } else {
+    r.require("load.displacement_amplitude", " for a displacement-controlled ramp or sine");
+    if (l.displacement_amplitude <= 0.0) r.fail_value("load.displacement_amplitude", "must be > 0");
+  }
+  if (l.path == PathType::sine &&
+      static_cast<long long>(l.cycles) * l.steps_per_cycle > std::numeric_limits<int>::max())
+    r.fail("load.cycles x load.steps_per_cycle is too many steps");
+}
+
+void read_load(const Reader& r, const fs::path& base, LoadSpec& l) {
+  read_load_values(r, base, l);
+  if (l.normal_force && l.indentation)
+    r.fail("load.normal_force and load.indentation are both given; give exactly one");
+  if (l.path == PathType::table) {
+    r.require("load.table", " for load.path = table");
+    check_table(r, l);
+  } else if (!l.normal_force && !l.indentation) {
+    r.fail("missing required key 'load.normal_force' or 'load.indentation'");
+  }
+  check_amplitudes(r, l);
+}
+
+void read_solver(const Reader& r, SolverSpec& s) {
+  if (r.has("solver.tolerance"))
+    s.tolerance = r.real_in("solver.tolerance", 0.0, true, 1e-2, false);
+  if (r.has("solver.max_iterations"))
+    s.max_iterations = static_cast<int>(r.integer("solver.max_iterations", 1, 1 << 30));
+  if (r.has("solver.coupling"))
+    s.coupling = static_cast<Coupling>(r.choice("solver.coupling", {"analogy", "cerruti"}));
+  if (r.has("solver.threads")) s.threads = static_cast<int>(r.integer("solver.threads", 0, 4096));
+  if (r.has("solver.algorithm"))
+    s.algorithm =
+        static_cast<TangentialAlgorithm>(r.choice("solver.algorithm", {"projected", "partition"}));
+  if (r.has("solver.stiffness")) s.stiffness = r.boolean("solver.stiffness");
+  if (r.has("solver.fft_plan"))
+    s.fft_measure = r.choice("solver.fft_plan", {"estimate", "measure"}) == 1;
+  if (r.has("solver.monotone"))
+    s.shortcut = r.choice("solver.monotone", {"incremental", "shortcut"}) == 1;
+  if (r.has("solver.precondition")) {
+    static constexpr Precondition kinds[] = {Precondition::automatic, Precondition::on,
+                                             Precondition::off};
+    s.precondition = kinds[r.choice("solver.precondition", {"automatic", "on", "off"})];
+  }
+  if (r.has("solver.fft_precision"))
+    s.fft_precision = r.choice("solver.fft_precision", {"double", "float"}) == 1
+                          ? FftPrecision::float32
+                          : FftPrecision::float64;
+  // Float convolutions put a round-off floor under every residual. Without an explicit
+  // tolerance the floor is the default (written to the resolved scenario); an explicit one
+  // below it is refused here, so `fretbem check` catches it and no solve stagnates to
+  // max_iterations first.
+  if (s.fft_precision == FftPrecision::float32) {
+    if (!r.has("solver.tolerance"))
+      s.tolerance = kFloatFftMinTolerance;
+    else if (s.tolerance < kFloatFftMinTolerance)
+      r.fail_value("solver.tolerance", "is below " + format_number(kFloatFftMinTolerance) +
+                                           ", the smallest tolerance float FFTs can reach "
+                                           "(solver.fft_precision = float): raise it or use "
+                                           "solver.fft_precision = double");
+  }
+}
+
+std::vector<std::string> read_fields(const Reader& r) {
+  std::vector<std::string> out;
+  const std::string list = trim(r.raw("output.fields"));
+  if (list.empty() || list == "none") return out;
+  for (const auto& f : split_csv_line(list)) {
+    if (std::find(kFieldNames.begin(), kFieldNames.end(), f) == kFieldNames.end())
+      r.fail_value("output.fields", "names an unknown field '" + printable(f) + "'" +
+                                        suggestion(f, kFieldNames) +
+                                        "; fields: pressure, traction_x, traction_y, state, "
+                                        "slip_x, slip_y, dissipation, wear");
+    if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
+  }
+  return out;
+}
+
+void read_output(const Reader& r, OutputSpec& o) {
+  if (r.has("output.dir")) {
+    if (r.raw("output.dir").empty()) r.fail_value("output.dir", "is empty");
+    o.dir = r.raw("output.dir");
+  }
+  if (r.has("output.fields")) o.fields = read_fields(r);
+  if (r.has("output.fields_every"))
+    o.fields_every = static_cast<int>(r.integer("output.fields_every", 0, 1 << 30));
+  if (r.has("output.checkpoint_every"))
+    o.checkpoint_every = static_cast<int>(r.integer("output.checkpoint_every", 0, 1 << 30));
+}
+
+void read_wear(const Reader& r, WearSpec& w) {
+  if (r.has("wear.law"))
+    w.law = static_cast<WearLaw>(r.choice("wear.law", {"none", "archard", "energy"}));
+  if (r.has("wear.coefficient")) w.coefficient = r.positive("wear.coefficient");
+  if (r.has("wear.cycles")) w.cycles = r.positive("wear.cycles");
+  if (r.has("wear.integrator"))
+    w.integrator = static_cast<WearIntegrator>(
+        r.choice("wear.integrator", {"arkode", "cycle", "erk", "dirk"}));
+  if (r.has("wear.rtol")) w.rtol = r.positive("wear.rtol");
+  if (r.has("wear.atol")) w.atol = r.positive("wear.atol");
+  if (r.has("wear.newton"))
+    w.newton = static_cast<WearNewton>(r.choice("wear.newton", {"frozen", "krylov"}));
+  if (r.has("wear.indenter_share"))
+    w.indenter_share = r.real_in("wear.indenter_share", 0.0, false, 1.0, false);
+  if (w.law == WearLaw::none) return;
+  r.require("wear.coefficient", " when wear.law is not none");
+  r.require("wear.cycles", " when wear.law is not none");
+  if (w.integrator == WearIntegrator::cycle && w.cycles != std::floor(w.cycles))
+    r.fail_value("wear.cycles", "is not a whole number (wear.integrator = cycle)");
+}
+
+}  // namespace fretbem::scenario_detail
