@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/elastic/fft_wisdom.hpp"
 #include "fretbem/elastic/love.hpp"
 
 namespace fretbem {
@@ -150,12 +151,30 @@ struct Engine {
     init_fftw_threads<Real>();
     std::lock_guard lock(planner_mutex());
     Api::plan_with_nthreads(std::max(1, opt.threads));
-    // r2c must preserve its input: the zero padding of rin is written once and relied on.
-    const unsigned rigour = opt.measure ? FFTW_MEASURE : FFTW_ESTIMATE;
-    forward = Api::plan_r2c(n0, n1, rin.get(), c1.get(), rigour | FFTW_PRESERVE_INPUT);
-    inverse = Api::plan_c2r(n0, n1, c1.get(), rout.get(), rigour | FFTW_DESTROY_INPUT);
+    if (opt.measure)
+      plan_measured();
+    else
+      plan(FFTW_ESTIMATE);
     if (!forward || !inverse) throw std::runtime_error("FFTW could not create a plan");
     std::fill(rin.get(), rin.get() + nr, Real(0));  // MEASURE may have scribbled on it
+  }
+  // r2c must preserve its input: the zero padding of rin is written once and relied on.
+  void plan(unsigned rigour) {
+    forward = Api::plan_r2c(n0, n1, rin.get(), c1.get(), rigour | FFTW_PRESERVE_INPUT);
+    inverse = Api::plan_c2r(n0, n1, c1.get(), rout.get(), rigour | FFTW_DESTROY_INPUT);
+  }
+  // MEASURE plans from the wisdom file when it has this size and thread count; measured (and
+  // the file updated) otherwise. Same wisdom, same plan: results repeat bit for bit.
+  void plan_measured() {
+    constexpr FftPrecision precision =
+        std::is_same_v<Real, float> ? FftPrecision::float32 : FftPrecision::float64;
+    fft_wisdom::load(precision);
+    plan(FFTW_MEASURE | FFTW_WISDOM_ONLY);
+    if (forward && inverse) return;
+    if (forward) Api::destroy(forward);
+    if (inverse) Api::destroy(inverse);
+    plan(FFTW_MEASURE);
+    fft_wisdom::save(precision);
   }
   ~Engine() {
     std::lock_guard lock(planner_mutex());

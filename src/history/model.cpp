@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-#include <thread>
 
+#include "fretbem/core/cpus.hpp"
 #include "fretbem/core/errors.hpp"
 
 namespace fretbem {
@@ -57,11 +57,16 @@ void check_memory(const Scenario& sc) {
   throw InputError(msg.str());
 }
 
-// solver.threads = 0: all cores from n = 512 up, where the 2n x 2n transforms are large enough
-// for threads to pay; one thread below (threads cost more than they save on small grids).
+// solver.threads = 0: all usable cores from n = 512 up, where the 2n x 2n transforms are large
+// enough for threads to pay; one thread below (threads cost more than they save on small grids).
 int default_threads(const Grid& g) {
   if (std::max(g.nx, g.ny) < 512) return 1;
-  return int(std::max(1u, std::thread::hardware_concurrency()));
+  return usable_cpus();
+}
+
+bool stiffness_wanted(const Model& model, int step, bool turning) {
+  if (!model.stiffness) return false;
+  return model.scenario.solver.stiffness == StiffnessMode::every || step == 0 || turning;
 }
 
 std::unique_ptr<Model> build_model(const Scenario& sc) {
@@ -93,11 +98,11 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
     m->tangential = std::make_unique<ProjectedCgSolver>(*m->tangential_operator, topt);
   // The stiffness solve's own floor of 1e-9 is raised to what float FFTs can reach: it is an
   // internal accuracy choice, not the user's tolerance (which is at least that floor).
-  if (sc.solver.stiffness)
+  if (sc.solver.stiffness != StiffnessMode::none)
     m->stiffness = std::make_unique<StiffnessSolver>(
         *m->tangential_operator,
         std::max({sc.solver.tolerance, 1e-9, m->half_space->min_tolerance()}),
-        sc.solver.max_iterations);
+        sc.solver.max_iterations, sc.solver.precondition);
   m->wear = make_wear_model(sc.wear);
   return m;
 }

@@ -105,7 +105,9 @@ void write_solver(IniWriter& w, const SolverSpec& s) {
   w.put("threads", s.threads);
   w.put("algorithm",
         std::string(s.algorithm == TangentialAlgorithm::projected ? "projected" : "partition"));
-  w.put("stiffness", s.stiffness);
+  w.put("stiffness", std::string(s.stiffness == StiffnessMode::every     ? "every"
+                                 : s.stiffness == StiffnessMode::turning ? "turning"
+                                                                         : "none"));
   w.put("fft_plan", std::string(s.fft_measure ? "measure" : "estimate"));
   w.put("fft_precision",
         std::string(s.fft_precision == FftPrecision::float32 ? "float" : "double"));

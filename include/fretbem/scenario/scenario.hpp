@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/elastic/grid.hpp"
 #include "fretbem/elastic/half_space.hpp"
 #include "fretbem/elastic/material.hpp"
-#include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/surface/surface.hpp"
 
 namespace fretbem {
@@ -19,6 +19,10 @@ enum class SurfaceType { sphere, flat, rough, file };
 enum class PathType { none, ramp, sine, table };
 enum class Control { force, displacement };
 enum class TangentialAlgorithm { projected, partition };
+/// When the exact differential stiffness kx is computed (solver.stiffness): every step, only at
+/// the ends of monotone segments (step 0, turning points, the last step), or never. Rows
+/// without it carry kx = nan.
+enum class StiffnessMode { every, turning, none };
 enum class WearLaw { none, archard, energy };
 /// arkode: erk or dirk, whichever the run's length against the explicit stability cap favours.
 enum class WearIntegrator { arkode, cycle, erk, dirk };
@@ -58,8 +62,10 @@ struct SolverSpec {
   Coupling coupling = Coupling::analogy;
   int threads = 0;  ///< 0: all cores
   TangentialAlgorithm algorithm = TangentialAlgorithm::projected;
-  bool stiffness = true;     ///< compute the exact differential stiffness kx every step
-  bool fft_measure = false;  ///< FFTW_MEASURE plans
+  StiffnessMode stiffness = StiffnessMode::every;  ///< which steps compute kx
+  /// FFTW_MEASURE plans, measured once per size and kept as wisdom (fft_wisdom.hpp); false:
+  /// ESTIMATE plans (no measuring, no file).
+  bool fft_measure = true;
   /// float32: single-precision convolutions (opt-in; the default tolerance is then
   /// kFloatFftMinTolerance and smaller ones are refused).
   FftPrecision fft_precision = FftPrecision::float64;
