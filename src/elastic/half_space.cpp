@@ -206,7 +206,9 @@ struct Engine {
   void c2r(Complex* in) { Api::c2r(inverse, in, rout.get()); }
 
   // out = s * in (circular convolution with the kernel whose spectrum is s).
-  void convolve(const Spectrum<Real>& s, const Field& in, Field& out, int nx, int ny) {
+  // `factor` multiplies the result as it is copied out (the analogy's E*/G*: no extra pass).
+  void convolve(const Spectrum<Real>& s, const Field& in, Field& out, int nx, int ny,
+                double factor = 1.0) {
     load(in);
     r2c(c1.get());
     const std::size_t ns = std::size_t(n0) * nc;
@@ -214,7 +216,7 @@ struct Engine {
     for (std::size_t k = 0; k < ns; ++k) c1[k][0] *= sv[k], c1[k][1] *= sv[k];
     c2r(c1.get());
     out.resize(nx, ny);
-    store(out, s.scale);
+    store(out, s.scale * factor);
   }
 
   // (ux, uy) = [sxx sxy; sxy syy] * (tx, ty): the Cerruti pair, two transforms each way.
@@ -446,8 +448,8 @@ void HalfSpace::normal_inverse(const Field& r, Field& z) {
 }
 
 void HalfSpace::tangential_analogy(const Field& t, Field& u) {
-  normal(t, u);
-  u *= ratio_;
+  fft_->visit([&](auto& E) { E.convolve(E.sz, t, u, grid_.nx, grid_.ny, ratio_); });
+  ++convolutions_;
 }
 
 void HalfSpace::tangential(const Field& tx, const Field& ty, Field& ux, Field& uy) {

@@ -2,7 +2,8 @@
 // sphere, contact radius L/4, force control +-0.6 mu F_z, 64 steps per cycle, at n = 128, 256,
 // 512, with solver.stiffness = every, turning and none. Reports the median wall and process CPU
 // time of a steady (second) cycle, the convolutions it used, and the CPU time in units of one
-// bare convolution of the same padded size measured in the same run (machine-independent).
+// bare convolution of the same padded size measured in the same run (machine-independent),
+// and per convolution the solvers performed (the overhead of their element-wise passes).
 // FFT plans as `fretbem run` makes them (MEASURE with wisdom), one thread.
 //
 // Usage: bench_cycle [--max-n N] [--repeats R] [--min-n N]
@@ -78,8 +79,8 @@ int main(int argc, char** argv) {
   std::printf("load average %.2f at start\n\n", bench::load_average());
   std::printf(
       "| n | stiffness | cycle wall (s) | cycle CPU (s) | convolutions / cycle | conv CPU (ms) "
-      "| cycle CPU / conv |\n");
-  std::printf("|---|---|---|---|---|---|---|\n");
+      "| cycle CPU / conv | CPU per solver convolution / conv |\n");
+  std::printf("|---|---|---|---|---|---|---|---|\n");
   for (int n = min_n; n <= max_n; n *= 2) {
     for (const char* stiff : {"every", "turning", "none"}) {
       std::vector<double> wall, cpu;
