@@ -69,7 +69,7 @@ class Figures(unittest.TestCase):
                             "load.steps_per_cycle=16", "load.cycles=2",
                             "output.fields=state,traction_x", "output.fields_every=4")
         cls.wear = fretbem("fretting_wear.ini", os.path.join(TMP, "wear"), "grid.n=16",
-                           "wear.cycles=50", "wear.integrator=cycle")
+                           "wear.cycles=10", "wear.integrator=cycle")
 
     def written(self, png):
         for path in (png, os.path.splitext(png)[0] + ".pdf"):
