@@ -12,10 +12,13 @@ FRETBEM_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 FRETBEM_BUILD_DIR="${FRETBEM_BUILD_DIR:-build}"
 
 # Everything the build and the tests need (CMakeLists.txt's find_package/pkg-config list).
+# OpenMPI is optional for the build (FRETBEM_MPI=AUTO) but installed here so that the test
+# suite also runs the MPI sweep tests (tests/test_sweep_mpi.cpp, about 10 s).
 FRETBEM_REQUIRED_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libfftw3-dev libsundials-dev libhdf5-dev libboost-program-options-dev
   libgtest-dev googletest
+  libopenmpi-dev openmpi-bin
 )
 # Only the plotting scripts (tools/plot_*.py) and h5dump use these.
 FRETBEM_OPTIONAL_PACKAGES=(python3-numpy python3-h5py python3-matplotlib hdf5-tools)
