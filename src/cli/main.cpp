@@ -8,14 +8,15 @@
 #include <string>
 #include <vector>
 
-#include "fretbem/io/checkpoint.hpp"
-#include "fretbem/study/ensemble.hpp"
-#include "fretbem/study/sweep.hpp"
+#include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/history/model.hpp"
+#include "fretbem/history/stepper.hpp"
+#include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/run_output.hpp"
 #include "fretbem/scenario/scenario.hpp"
-#include "fretbem/history/stepper.hpp"
+#include "fretbem/study/ensemble.hpp"
+#include "fretbem/study/sweep.hpp"
 #include "fretbem/surface/surface.hpp"
 #include "fretbem/wear/integrator.hpp"
 
@@ -110,17 +111,9 @@ Scenario read_scenario(const Args& a) {
 
 // Reads DIR/timeseries.csv back (resume): the rows a cycle summary has to replay.
 std::vector<StepRecord> read_timeseries(const std::filesystem::path& dir, std::size_t rows) {
-  std::ifstream in(dir / "timeseries.csv");
-  std::string line;
-  std::getline(in, line);
+  const auto table = csv::read_table(dir / "timeseries.csv", {.allow_nan = true, .max_rows = rows});
   std::vector<StepRecord> out;
-  while (out.size() < rows && std::getline(in, line)) {
-    std::vector<double> v;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) v.push_back(std::strtod(cell.c_str(), nullptr));
-    out.push_back(StepRecord::from_values(v));
-  }
+  for (const auto& row : table.rows) out.push_back(StepRecord::from_values(row));
   return out;
 }
 

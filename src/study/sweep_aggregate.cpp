@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <fstream>
 #include <map>
-#include <sstream>
 
+#include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/study/sweep_runner.hpp"
 
@@ -18,15 +18,8 @@ namespace {
 const std::vector<std::string> kFinalColumns{
     "Fx", "Ux", "kx", "contact_area", "stick_area", "slip_area", "dissipation", "wear_volume"};
 
-std::vector<std::string> split_row(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  for (std::string t; std::getline(ss, t, ',');) out.push_back(t);
-  return out;
-}
-
-// Header and last data row of a CSV file, as text (values are copied, never re-printed).
-// TODO(lead): core/csv_reader once it is on main.
+// Header and last data row of a CSV file, as text: values are copied, never re-printed, so
+// sweep.csv carries exactly the digits the member wrote (csv::read_table would parse them).
 std::pair<std::vector<std::string>, std::vector<std::string>> header_and_last_row(
     const fs::path& file) {
   std::ifstream in(file);
@@ -35,7 +28,7 @@ std::pair<std::vector<std::string>, std::vector<std::string>> header_and_last_ro
   while (std::getline(in, line))
     if (!line.empty()) last = line;
   if (last.empty()) return {};
-  return {split_row(header), split_row(last)};
+  return {csv::split_line(header), csv::split_line(last)};
 }
 
 using Summary = std::vector<std::pair<std::string, std::string>>;  // column, text

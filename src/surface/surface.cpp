@@ -21,6 +21,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/hdf5.hpp"
 
 namespace fretbem {
 
@@ -373,47 +374,16 @@ std::string read_all(const std::filesystem::path& file) {
 // HDF5 (C API). Errors are reported through return codes; HDF5's automatic printing of its
 // error stack is silenced for the duration of each call into this module.
 
-class H5Quiet {
- public:
-  H5Quiet() {
-    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~H5Quiet() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
-  H5Quiet(const H5Quiet&) = delete;
-  H5Quiet& operator=(const H5Quiet&) = delete;
-
- private:
-  H5E_auto2_t func_ = nullptr;
-  void* data_ = nullptr;
-};
-
-class H5Id {
- public:
-  H5Id(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
-  ~H5Id() {
-    if (id_ >= 0) close_(id_);
-  }
-  H5Id(const H5Id&) = delete;
-  H5Id& operator=(const H5Id&) = delete;
-  hid_t get() const { return id_; }
-  bool ok() const { return id_ >= 0; }
-
- private:
-  hid_t id_;
-  herr_t (*close_)(hid_t);
-};
-
 int dataset_rank(hid_t dset) {
-  H5Id space(H5Dget_space(dset), H5Sclose);
-  return space.ok() ? H5Sget_simple_extent_ndims(space.get()) : -1;
+  hdf5::Space space(H5Dget_space(dset));
+  return space.valid() ? H5Sget_simple_extent_ndims(space.get()) : -1;
 }
 
 // H5Lvisit callback: stops (returns 1) at the first hard link to a 2-D dataset.
 herr_t find_2d_dataset(hid_t group, const char* name, const H5L_info_t* info, void* found) {
   if (info->type != H5L_TYPE_HARD) return 0;
-  H5Id d(H5Dopen2(group, name, H5P_DEFAULT), H5Dclose);
-  if (!d.ok() || dataset_rank(d.get()) != 2) return 0;
+  hdf5::Dataset d(H5Dopen2(group, name, H5P_DEFAULT));
+  if (!d.valid() || dataset_rank(d.get()) != 2) return 0;
   *static_cast<std::string*>(found) = name;
   return 1;
 }
@@ -428,12 +398,12 @@ std::string choose_dataset(const std::filesystem::path& file, hid_t f, const std
 
 Field read_h5_dataset(const std::filesystem::path& file, hid_t d, const std::string& name) {
   const std::string where = "dataset '" + name + "' ";
-  H5Id space(H5Dget_space(d), H5Sclose);
-  if (!space.ok() || H5Sget_simple_extent_ndims(space.get()) != 2)
+  hdf5::Space space(H5Dget_space(d));
+  if (!space.valid() || H5Sget_simple_extent_ndims(space.get()) != 2)
     file_error(file, where + "is not 2-D");
   hsize_t dims[2];
   H5Sget_simple_extent_dims(space.get(), dims, nullptr);
-  H5Id type(H5Dget_type(d), H5Tclose);
+  hdf5::Type type(H5Dget_type(d));
   const H5T_class_t cls = H5Tget_class(type.get());
   if (cls != H5T_FLOAT && cls != H5T_INTEGER) file_error(file, where + "is not numeric");
   require_sane_shape(file, dims[0], dims[1]);
@@ -444,26 +414,25 @@ Field read_h5_dataset(const std::filesystem::path& file, hid_t d, const std::str
 }
 
 Field load_h5(const std::filesystem::path& file, const std::string& dataset) {
-  H5Quiet quiet;
+  hdf5::Quiet quiet;
   if (H5Fis_hdf5(file.c_str()) <= 0) file_error(file, "not an HDF5 file");
-  H5Id f(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (!f.ok()) file_error(file, "cannot open HDF5 file");
+  hdf5::File f(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
+  if (!f.valid()) file_error(file, "cannot open HDF5 file");
   const std::string name = choose_dataset(file, f.get(), dataset);
-  H5Id d(H5Dopen2(f.get(), name.c_str(), H5P_DEFAULT), H5Dclose);
-  if (!d.ok()) file_error(file, "no dataset '" + name + "'");
+  hdf5::Dataset d(H5Dopen2(f.get(), name.c_str(), H5P_DEFAULT));
+  if (!d.valid()) file_error(file, "no dataset '" + name + "'");
   return read_h5_dataset(file, d.get(), name);
 }
 
 void save_h5(const std::filesystem::path& file, const Field& z) {
-  H5Quiet quiet;
-  H5Id f(H5Fcreate(file.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
-  if (!f.ok()) file_error(file, "cannot create HDF5 file");
+  hdf5::Quiet quiet;
+  hdf5::File f(H5Fcreate(file.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
+  if (!f.valid()) file_error(file, "cannot create HDF5 file");
   const hsize_t dims[2] = {hsize_t(z.cols()), hsize_t(z.rows())};  // {ny, nx}
-  H5Id space(H5Screate_simple(2, dims, nullptr), H5Sclose);
-  H5Id d(H5Dcreate2(f.get(), "height", H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT,
-                    H5P_DEFAULT),
-         H5Dclose);
-  if (!space.ok() || !d.ok() ||
+  hdf5::Space space(H5Screate_simple(2, dims, nullptr));
+  hdf5::Dataset d(H5Dcreate2(f.get(), "height", H5T_IEEE_F64LE, space.get(), H5P_DEFAULT,
+                             H5P_DEFAULT, H5P_DEFAULT));
+  if (!space.valid() || !d.valid() ||
       H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, z.data()) < 0)
     file_error(file, "cannot write dataset 'height'");
 }
