@@ -18,6 +18,8 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kStatusFile = "sweep_member.txt";
+// The error text of a member the study stopped; sweep_aggregate reads it as "interrupted".
+constexpr const char* kInterrupted = "interrupted (study stopped)";
 
 // The one piece of process-wide state: a signal handler can only set a flag.
 volatile std::sig_atomic_t g_stop = 0;
@@ -68,7 +70,9 @@ class Runner {
       const double s = seconds_since(it->second.start);
       it = running_.erase(it);
       const fs::path log = spec_.out / spec_.member_dir(k) / "log.txt";
-      finish(k, *code, s, *code == 0 ? "" : last_line(log));
+      // Ctrl-C reaches the members too: one that died of it while we stop was interrupted.
+      const bool interrupted = *code > 128 && sweep_stop_requested();
+      finish(k, *code, s, *code == 0 ? "" : interrupted ? kInterrupted : last_line(log));
       any = true;
     }
     return any;
@@ -78,7 +82,7 @@ class Runner {
   void stop_all() {
     for (const auto& [pid, r] : running_) kill(pid, SIGTERM);
     for (const auto& [pid, r] : running_)
-      finish(r.index, wait_child(pid), seconds_since(r.start), "interrupted (study stopped)");
+      finish(r.index, wait_child(pid), seconds_since(r.start), kInterrupted);
     running_.clear();
   }
 

@@ -1,0 +1,100 @@
+#!/usr/bin/python3
+"""Energy dissipated per steady cycle against the tangential amplitude Q*/(mu P), log-log, from a
+fretbem sweep over load.amplitude of a sphere (sweep.csv), next to Mindlin-Deresiewicz.
+
+usage: tools/plot_energy_per_cycle.py STUDY_DIR [--out energy.png]
+
+Closed form (Johnson, Contact Mechanics, eq. 7.60, in fretbem's E*, G*): for a rigid sphere,
+a = (3 P R / 4 E*)^(1/3), delta = a^2/R, u* = mu delta E*/G*, q = Q*/(mu P):
+  W(q) = (24/5) mu P u* [1 - (1-q)^(5/3) - (5q/6) (1 + (1-q)^(2/3))]  ~  (4/27) mu P u* q^3
+(slope 3 at small q). The slip annulus is a (1 - (1-q)^(1/3)) wide: the grid resolves it with
+at least two cells only where that exceeds 2h; points below are drawn hollow. Prints one line
+per member: q, W simulated, W closed form, ratio, annulus width in cells.
+"""
+import argparse
+import configparser
+import csv
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import h5py  # noqa: E402
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def resolved_scenario(member_dir):
+    with h5py.File(os.path.join(member_dir, "result.h5"), "r") as f:
+        text = f["scenario"][()].decode()
+    cp = configparser.ConfigParser(inline_comment_prefixes=("#",))
+    cp.read_string(text)
+    return cp
+
+
+def mindlin(cp):
+    E, nu = float(cp["material"]["E"]), float(cp["material"]["nu"])
+    mu = float(cp["material"]["mu"])
+    if cp["material"].get("E2", "").strip():
+        sys.exit("plot_energy_per_cycle: a second elastic body is not handled here")
+    if cp["surface"]["type"].strip() != "sphere":
+        return None
+    R = float(cp["surface"]["radius"])
+    P = float(cp["load"]["normal_force"])
+    E_star = E / (1 - nu**2)
+    G_star = 2 * E / ((1 + nu) * (2 - nu))  # 4G/(2 - nu), rigid indenter
+    a = (3 * P * R / (4 * E_star)) ** (1 / 3)
+    ustar = mu * a * a / R * E_star / G_star
+    h = float(cp["grid"]["length"]) / int(cp["grid"]["n"])
+    return mu * P, ustar, a, h
+
+
+def energy(muP, ustar, q):
+    q = np.asarray(q, dtype=float)
+    return 24 / 5 * muP * ustar * (1 - (1 - q) ** (5 / 3) - 5 * q / 6 * (1 + (1 - q) ** (2 / 3)))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("study_dir")
+    ap.add_argument("--out", default=None)
+    args = ap.parse_args()
+    path = os.path.join(args.study_dir, "sweep.csv")
+    if not os.path.exists(path):
+        sys.exit(f"plot_energy_per_cycle: {path}: no sweep.csv (run fretbem sweep first)")
+    with open(path) as f:
+        rows = [r for r in csv.DictReader(f) if r["status"] == "ok"]
+    if not rows or "load.amplitude" not in rows[0]:
+        sys.exit("plot_energy_per_cycle: no finished member, or load.amplitude not varied")
+    model = mindlin(resolved_scenario(os.path.join(args.study_dir, rows[0]["dir"])))
+    if model is None:
+        sys.exit("plot_energy_per_cycle: the base scenario is not a sphere")
+    muP, ustar, a, h = model
+    q = np.array([float(r["load.amplitude"]) for r in rows])
+    W = np.array([float(r["dissipated_energy"]) for r in rows])
+    ring = a * (1 - (1 - q) ** (1 / 3)) / h
+    Wmd = energy(muP, ustar, q)
+    print("q, W (J), W Mindlin-Deresiewicz (J), ratio, slip annulus (cells)")
+    for i in np.argsort(q):
+        print(f"{q[i]:.4g}, {W[i]:.6g}, {Wmd[i]:.6g}, {W[i] / Wmd[i]:.4f}, {ring[i]:.2f}")
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    qq = np.logspace(np.log10(min(q.min(), 0.01)), np.log10(0.999), 200)
+    ax.loglog(qq, energy(muP, ustar, qq) / (muP * ustar), "k-", lw=1, label="Mindlin–Deresiewicz")
+    ax.loglog(qq, 4 / 27 * qq**3, "k:", lw=1, label="slope 3: (4/27) q³")
+    ok = ring >= 2
+    ax.loglog(q[ok], W[ok] / (muP * ustar), "o", color="C0", label="fretbem (annulus ≥ 2 cells)")
+    ax.loglog(q[~ok], W[~ok] / (muP * ustar), "o", mfc="none", color="C0",
+              label="fretbem (annulus < 2 cells)")
+    ax.set_xlabel("Q*/(μP)")
+    ax.set_ylabel("W / (μP u*)")
+    ax.set_title(f"energy per cycle, sphere, a/h = {a / h:.0f}")
+    ax.legend(fontsize=8)
+    out = args.out or os.path.join(args.study_dir, "energy_per_cycle.png")
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    print(f"plot_energy_per_cycle: wrote {out}")
+
+
+if __name__ == "__main__":
+    main()
