@@ -1,6 +1,8 @@
 #!/usr/bin/python3
 """Energy dissipated per steady cycle against the tangential amplitude Q*/(mu P), log-log, from a
-fretbem sweep over load.amplitude of a sphere (sweep.csv), next to Mindlin-Deresiewicz.
+fretbem sweep over load.amplitude (sweep.csv): a sphere next to Mindlin-Deresiewicz, or rough
+surfaces (one curve per value of the other varied keys, mean over surface.seed with the
+seeds' range as a band, a slope-3 guide).
 
 usage: tools/plot_energy_per_cycle.py STUDY_DIR [--out energy.png]
 
@@ -55,6 +57,40 @@ def energy(muP, ustar, q):
     return 24 / 5 * muP * ustar * (1 - (1 - q) ** (5 / 3) - 5 * q / 6 * (1 + (1 - q) ** (2 / 3)))
 
 
+def plot_rough(rows, out):
+    """W (J) against q per group of the other varied keys; mean over seeds, min-max band."""
+    # sweep.csv: member, dir, the varied keys, status, ...: group by the varied keys except
+    # the amplitude (the x axis) and the seed (averaged over).
+    cols = list(rows[0])
+    varied = cols[cols.index("dir") + 1:cols.index("status")]
+    keys = [k for k in varied if k not in ("load.amplitude", "surface.seed")]
+    groups = {}
+    for r in rows:
+        label = ", ".join(f"{k} = {r[k]}" for k in keys) or "all"
+        groups.setdefault(label, {}).setdefault(float(r["load.amplitude"]), []).append(
+            float(r["dissipated_energy"]))
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    print("group, q, W mean (J), W min, W max, seeds")
+    for i, (label, by_q) in enumerate(sorted(groups.items())):
+        q = np.array(sorted(by_q))
+        W = [np.array(by_q[x]) for x in q]
+        mean = np.array([w.mean() for w in W])
+        ax.loglog(q, mean, "o-", color=f"C{i}", label=label)
+        ax.fill_between(q, [w.min() for w in W], [w.max() for w in W], color=f"C{i}", alpha=0.2)
+        for x, w in zip(q, W):
+            print(f"{label}, {x:.4g}, {w.mean():.6g}, {w.min():.6g}, {w.max():.6g}, {len(w)}")
+        q0, W0 = q[0], mean[0]
+    qq = np.logspace(np.log10(q0), np.log10(0.3), 20)
+    ax.loglog(qq, W0 * (qq / q0) ** 3, "k:", lw=1, label="slope 3")
+    ax.set_xlabel("Q*/(μP)")
+    ax.set_ylabel("energy per cycle W (J)")
+    ax.set_title("energy per cycle, rough surfaces (mean and range over seeds)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    print(f"plot_energy_per_cycle: wrote {out}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("study_dir")
@@ -68,8 +104,9 @@ def main():
     if not rows or "load.amplitude" not in rows[0]:
         sys.exit("plot_energy_per_cycle: no finished member, or load.amplitude not varied")
     model = mindlin(resolved_scenario(os.path.join(args.study_dir, rows[0]["dir"])))
+    out = args.out or os.path.join(args.study_dir, "energy_per_cycle.png")
     if model is None:
-        sys.exit("plot_energy_per_cycle: the base scenario is not a sphere")
+        return plot_rough(rows, out)
     muP, ustar, a, h = model
     q = np.array([float(r["load.amplitude"]) for r in rows])
     W = np.array([float(r["dissipated_energy"]) for r in rows])
@@ -90,7 +127,6 @@ def main():
     ax.set_ylabel("W / (μP u*)")
     ax.set_title(f"energy per cycle, sphere, a/h = {a / h:.0f}")
     ax.legend(fontsize=8)
-    out = args.out or os.path.join(args.study_dir, "energy_per_cycle.png")
     fig.tight_layout()
     fig.savefig(out, dpi=120)
     print(f"plot_energy_per_cycle: wrote {out}")
