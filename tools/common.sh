@@ -12,14 +12,14 @@ FRETBEM_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 FRETBEM_BUILD_DIR="${FRETBEM_BUILD_DIR:-build}"
 
 # Everything the build and the tests need (CMakeLists.txt's find_package/pkg-config list).
-# OpenMPI is optional for the build (FRETBEM_MPI=AUTO) but installed here so that the test
-# suite also runs the MPI sweep tests (tests/test_sweep_mpi.cpp, about 10 s).
 FRETBEM_REQUIRED_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libfftw3-dev libsundials-dev libhdf5-dev libboost-program-options-dev
   libgtest-dev googletest
-  libopenmpi-dev openmpi-bin
 )
+# MPI is optional for the build (FRETBEM_MPI=AUTO finds it); tools/test.sh installs it so that
+# the suite also runs the MPI sweep tests (tests/test_sweep_mpi.cpp, ~10-20 s; docs/cluster.md).
+FRETBEM_MPI_PACKAGES=(libopenmpi-dev openmpi-bin)
 # Only the plotting scripts (tools/plot_*.py) and h5dump use these.
 FRETBEM_OPTIONAL_PACKAGES=(python3-numpy python3-h5py python3-matplotlib hdf5-tools)
 
@@ -49,12 +49,14 @@ fretbem_as_root() {
 
 # Installs the missing packages of the given list; `apt-get update` only when something is
 # missing, so a provisioned machine never touches the network.
-# Usage: fretbem_install required|optional
+# Usage: fretbem_install required|mpi|optional
 fretbem_install() {
   local kind="$1" missing
   local -a wanted
   if [[ "$kind" == required ]]; then
     wanted=("${FRETBEM_REQUIRED_PACKAGES[@]}")
+  elif [[ "$kind" == mpi ]]; then
+    wanted=("${FRETBEM_MPI_PACKAGES[@]}")
   else
     wanted=("${FRETBEM_OPTIONAL_PACKAGES[@]}")
   fi
@@ -79,6 +81,10 @@ fretbem_install_dependencies() {
     return 0
   fi
   fretbem_install required
+  if [[ "${1:-}" == --with-mpi ]]; then
+    # Without MPI the build still works (sweeps run in one process): do not stop here.
+    fretbem_install mpi || fretbem_log "OpenMPI not installed; building without MPI sweeps"
+  fi
   if [[ "${1:-}" == --with-optional ]]; then
     # Plotting extras are a convenience: a failure here must not stop the build.
     fretbem_install optional || fretbem_log "optional plotting packages not installed; continuing"

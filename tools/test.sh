@@ -6,8 +6,8 @@ set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 cd "$FRETBEM_ROOT"
 
-# shellcheck disable=SC2119  # no arguments on purpose: required packages only, all targets
-fretbem_install_dependencies
+# Required packages and OpenMPI (the MPI sweep tests run when it is there).
+fretbem_install_dependencies --with-mpi
 # shellcheck disable=SC2119
 fretbem_build
 
