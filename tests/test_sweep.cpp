@@ -164,9 +164,10 @@ TEST(SweepRun, SigtermThenRerunRunsOnlyTheMissingMembers) {
           out.c_str(), "--set", "grid.n=32", nullptr);
     _exit(127);
   }
-  // Wait for two finished members, then stop the study.
+  // Wait for two finished members (status written at the start says running), then stop.
   const auto t0 = std::chrono::steady_clock::now();
-  while (!fs::exists(out / "member_0001" / "sweep_member.txt") &&
+  while (slurp(out / "member_0001" / "sweep_member.txt").find("exit_code=0\n") ==
+             std::string::npos &&
          std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   kill(pid, SIGTERM);
@@ -226,4 +227,31 @@ TEST(Resources, SlurmCpusPerTaskCapsTheAffinityCount) {
   EXPECT_FALSE(slurm_cpus_per_task());
   EXPECT_EQ(usable_cpus(), affinity);
   unsetenv("SLURM_CPUS_PER_TASK");
+}
+
+// A member whose study was killed outright (its status still says running) continues from its
+// checkpoint on the next run instead of starting afresh: its directory is kept, and the result
+// is the uninterrupted one (here the checkpoint is the final one, so to the last digit).
+TEST(SweepRun, KilledMemberContinuesFromItsCheckpoint) {
+  const fs::path d = scratch("resume");
+  const std::string member0 = bin() + " sweep " + example_study() + " --member 0 --quiet --out " +
+                              (d / "out").string() + kSmall;
+  ASSERT_EQ(shell(member0, d).status, 0);
+  const fs::path dir = d / "out" / "member_0000";
+  const std::string cycles = slurp(dir / "cycles.csv");
+  std::string status = slurp(dir / "sweep_member.txt");
+  status.replace(status.find("exit_code=0"), 11, "exit_code=-1");
+  status.replace(status.find("error=\n"), 7, "error=running (or killed while running)\n");
+  std::ofstream(dir / "sweep_member.txt") << status;
+  std::ofstream(dir / "marker") << "kept";
+  ASSERT_EQ(shell(bin() + " sweep " + example_study() + " --aggregate --out " +
+                      (d / "out").string() + kSmall,
+                  d)
+                .status,
+            0);
+  EXPECT_EQ(column(d / "out" / "sweep.csv", "status")[0], "running");
+  ASSERT_EQ(shell(member0, d).status, 0);
+  EXPECT_TRUE(fs::exists(dir / "marker"));  // resumed in place, not restarted
+  EXPECT_EQ(slurp(dir / "cycles.csv"), cycles);
+  EXPECT_NE(slurp(dir / "sweep_member.txt").find("exit_code=0\n"), std::string::npos);
 }

@@ -55,7 +55,8 @@ std::string quoted(const std::string& text) {
 std::string status_word(const MemberStatus& st, bool complete) {
   if (complete) return "ok";
   if (!st.present) return "missing";
-  if (st.error.rfind("interrupted", 0) == 0) return "interrupted";
+  if (member_running(st)) return "running";
+  if (member_stopped(st)) return "interrupted";
   return st.exit_code == 0 ? "missing" : "failed";
 }
 
@@ -77,7 +78,7 @@ SweepTally write_sweep_csv(const SweepSpec& spec) {
     r.word = status_word(r.status, complete);
     if (complete) r.summary = member_summary(dir);
     tally.ok += complete, tally.failed += r.word == "failed";
-    tally.missing += r.word == "missing" || r.word == "interrupted";
+    tally.missing += r.word != "ok" && r.word != "failed";
     for (const auto& [name, v] : r.summary)
       if (std::find(columns.begin(), columns.end(), name) == columns.end()) columns.push_back(name);
     rows.push_back(std::move(r));

@@ -18,8 +18,10 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kStatusFile = "sweep_member.txt";
-// The error text of a member the study stopped; sweep_aggregate reads it as "interrupted".
+// The error text of a member the study stopped, and of one that is running (or was, when the
+// study was killed without a chance to record it): both count as interrupted.
 constexpr const char* kInterrupted = "interrupted (study stopped)";
+constexpr const char* kRunning = "running (or killed while running)";
 
 // The one piece of process-wide state: a signal handler can only set a flag.
 volatile std::sig_atomic_t g_stop = 0;
@@ -48,11 +50,21 @@ class Runner {
  public:
   Runner(const SweepSpec& spec, const SweepOptions& opt) : spec_(spec), opt_(opt) {}
 
+  // An interrupted member continues from its checkpoint; any other starts afresh.
   void start(std::size_t k) {
     const fs::path dir = spec_.out / spec_.member_dir(k);
-    fs::remove_all(dir);  // stale outputs of an interrupted or failed attempt
-    fs::create_directories(dir);
-    const pid_t pid = spawn_logged(member_run_command(spec_, k, opt_.binary), dir / "log.txt");
+    const bool resume = member_resumable(spec_, k);
+    if (!resume) {
+      fs::remove_all(dir);  // stale outputs of a failed attempt
+      fs::create_directories(dir);
+    }
+    MemberStatus running;
+    running.error = kRunning, running.sets = spec_.member_sets(k);
+    write_status(dir, running);
+    const auto cmd = resume ? std::vector<std::string>{opt_.binary.string(), "run", "--resume",
+                                                       dir.string(), "--quiet"}
+                            : member_run_command(spec_, k, opt_.binary);
+    const pid_t pid = spawn_logged(cmd, dir / "log.txt");
     if (pid < 0) return finish(k, 127, 0, "could not start " + opt_.binary.string());
     running_[pid] = {k, std::chrono::steady_clock::now()};
   }
@@ -98,7 +110,7 @@ class Runner {
     s.exit_code = code, s.seconds = seconds, s.error = error, s.sets = spec_.member_sets(k);
     write_status(spec_.out / spec_.member_dir(k), s);
     const std::string name = spec_.member_dir(k).string();
-    if (code != 0 && error.rfind("interrupted", 0) == 0)
+    if (code != 0 && error == kInterrupted)
       std::fprintf(stderr, "%s: member %zu (%s) interrupted\n", opt_.label.c_str(), k,
                    name.c_str());
     else if (code != 0)
@@ -143,6 +155,20 @@ MemberStatus read_member_status(const fs::path& dir) {
     if (key == "set") s.sets.push_back(value);
   }
   return s;
+}
+
+bool member_stopped(const MemberStatus& s) {
+  return s.present && (s.error == kInterrupted || member_running(s));
+}
+
+bool member_running(const MemberStatus& s) {
+  return s.present && s.error == kRunning;
+}
+
+bool member_resumable(const SweepSpec& spec, std::size_t k) {
+  const fs::path dir = spec.out / spec.member_dir(k);
+  const MemberStatus s = read_member_status(dir);
+  return member_stopped(s) && s.sets == spec.member_sets(k) && fs::exists(dir / "checkpoint.h5");
 }
 
 bool member_complete(const SweepSpec& spec, std::size_t k) {

@@ -1,8 +1,9 @@
 // Running the members of a sweep (issue 15): each member is a `fretbem run` subprocess of the
 // base scenario with the member's overrides, in its own directory below the study's output,
-// stdout and stderr in its log.txt, and a status file written when it ends. A re-run skips
-// the members whose status says they finished; SIGTERM or SIGINT ends the running members
-// (each is recorded as interrupted) and the study still writes its aggregate.
+// stdout and stderr in its log.txt, and a status file written when it starts and when it ends.
+// A re-run skips the members whose status says they finished and continues interrupted ones
+// from their checkpoint; SIGTERM or SIGINT ends the running members (each is recorded as
+// interrupted) and the study still writes its aggregate.
 #pragma once
 
 #include <filesystem>
@@ -31,6 +32,13 @@ struct MemberStatus {
 };
 
 MemberStatus read_member_status(const std::filesystem::path& member_dir);
+/// Marked running: it runs now, or the study was killed outright while it ran.
+bool member_running(const MemberStatus& status);
+/// Interrupted by the study, or member_running.
+bool member_stopped(const MemberStatus& status);
+/// Stopped with the overrides the study now asks for and a checkpoint.h5 to continue from:
+/// the next run of the study continues it with `fretbem run --resume` instead of restarting.
+bool member_resumable(const SweepSpec& spec, std::size_t k);
 /// Finished with exit 0, with the overrides the study now asks for, outputs present.
 bool member_complete(const SweepSpec& spec, std::size_t k);
 
