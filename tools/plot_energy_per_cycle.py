@@ -14,25 +14,15 @@ at least two cells only where that exceeds 2h; points below are drawn hollow. Pr
 per member: q, W simulated, W closed form, ratio, annulus width in cells.
 """
 import argparse
-import configparser
-import csv
 import os
 import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
-import h5py  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
-
-def resolved_scenario(member_dir):
-    with h5py.File(os.path.join(member_dir, "result.h5"), "r") as f:
-        text = f["scenario"][()].decode()
-    cp = configparser.ConfigParser(inline_comment_prefixes=("#",))
-    cp.read_string(text)
-    return cp
+from sweep_results import finished_rows, resolved_scenario  # noqa: E402
 
 
 def mindlin(cp):
@@ -96,13 +86,9 @@ def main():
     ap.add_argument("study_dir")
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
-    path = os.path.join(args.study_dir, "sweep.csv")
-    if not os.path.exists(path):
-        sys.exit(f"plot_energy_per_cycle: {path}: no sweep.csv (run fretbem sweep first)")
-    with open(path) as f:
-        rows = [r for r in csv.DictReader(f) if r["status"] == "ok"]
-    if not rows or "load.amplitude" not in rows[0]:
-        sys.exit("plot_energy_per_cycle: no finished member, or load.amplitude not varied")
+    rows = finished_rows(args.study_dir, "plot_energy_per_cycle")
+    if "load.amplitude" not in rows[0]:
+        sys.exit("plot_energy_per_cycle: load.amplitude is not varied in this study")
     model = mindlin(resolved_scenario(os.path.join(args.study_dir, rows[0]["dir"])))
     out = args.out or os.path.join(args.study_dir, "energy_per_cycle.png")
     if model is None:

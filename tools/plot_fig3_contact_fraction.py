@@ -12,24 +12,19 @@ contact area over the domain area. Prints one line per member and plots alpha ag
 contact fraction per H, with eq. 25's 1/(1+H) as dashed lines.
 """
 import argparse
-import configparser
 import csv
 import os
-import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
-import h5py  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from sweep_results import finished_rows, resolved_scenario  # noqa: E402
 
 
 def scenario_values(member_dir):
-    with h5py.File(os.path.join(member_dir, "result.h5"), "r") as f:
-        text = f["scenario"][()].decode()
-    cp = configparser.ConfigParser(inline_comment_prefixes=("#",))
-    cp.read_string(text)
+    cp = resolved_scenario(member_dir)
     return float(cp["material"]["mu"]), float(cp["grid"]["length"]), float(cp["surface"]["hurst"])
 
 
@@ -56,13 +51,7 @@ def main():
     ap.add_argument("study_dir")
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
-    path = os.path.join(args.study_dir, "sweep.csv")
-    if not os.path.exists(path):
-        sys.exit(f"plot_fig3_contact_fraction: {path}: no sweep.csv (run fretbem sweep first)")
-    with open(path) as f:
-        rows = [r for r in csv.DictReader(f) if r["status"] == "ok"]
-    if not rows:
-        sys.exit("plot_fig3_contact_fraction: no finished member")
+    rows = finished_rows(args.study_dir, "plot_fig3_contact_fraction")
     by_h = {}
     print("H, F_z (N), contact fraction (%), fitted alpha, 1/(1+H)")
     for r in rows:
