@@ -81,14 +81,21 @@ fretbem_install_dependencies() {
     return 0
   fi
   fretbem_install required
-  if [[ "${1:-}" == --with-mpi ]]; then
-    # Without MPI the build still works (sweeps run in one process): do not stop here.
-    fretbem_install mpi || fretbem_log "OpenMPI not installed; building without MPI sweeps"
-  fi
-  if [[ "${1:-}" == --with-optional ]]; then
-    # Plotting extras are a convenience: a failure here must not stop the build.
-    fretbem_install optional || fretbem_log "optional plotting packages not installed; continuing"
-  fi
+  local flag
+  for flag in "$@"; do
+    case "$flag" in
+      --with-mpi)
+        # Without MPI the build still works (sweeps run in one process): do not stop here.
+        fretbem_install mpi || fretbem_log "OpenMPI not installed; building without MPI sweeps"
+        ;;
+      --with-optional)
+        # Plotting extras are a convenience: a failure here must not stop the build.
+        fretbem_install optional ||
+          fretbem_log "optional plotting packages not installed; continuing"
+        ;;
+      *) fretbem_log "fretbem_install_dependencies: unknown option $flag" ;;
+    esac
+  done
 }
 
 # Configures (Release, Ninja) on first use and builds the given targets (default: all).
