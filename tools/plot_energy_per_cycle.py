@@ -4,47 +4,50 @@ fretbem sweep over load.amplitude (sweep.csv): a sphere next to Mindlin-Deresiew
 surfaces (one curve per value of the other varied keys, mean over surface.seed with the
 seeds' range as a band, a slope-3 guide).
 
-usage: tools/plot_energy_per_cycle.py STUDY_DIR [--out energy.png]
+usage: tools/plot_energy_per_cycle.py STUDY_DIR [--out energy_per_cycle.png]
 
-Closed form (Johnson, Contact Mechanics, eq. 7.60, in fretbem's E*, G*): for a rigid sphere,
-a = (3 P R / 4 E*)^(1/3), delta = a^2/R, u* = mu delta E*/G*, q = Q*/(mu P):
-  W(q) = (24/5) mu P u* [1 - (1-q)^(5/3) - (5q/6) (1 + (1-q)^(2/3))]  ~  (4/27) mu P u* q^3
-(slope 3 at small q). The slip annulus is a (1 - (1-q)^(1/3)) wide: the grid resolves it with
-at least two cells only where that exceeds 2h; points below are drawn hollow. Prints one line
-per member: q, W simulated, W closed form, ratio, annulus width in cells.
+Closed form (fretbem_plot.Contact.md_energy, Johnson eq. 7.60): W(q) = (24/5) mu P u*
+[1 - (1-q)^(5/3) - (5q/6)(1 + (1-q)^(2/3))] ~ (4/27) mu P u* q^3, u* = mu delta E*/G*. The slip
+annulus is a (1 - (1-q)^(1/3)) wide: the grid resolves it with at least two cells only where
+that exceeds 2h; points below are drawn hollow. Prints one line per member (sphere) or per
+group and amplitude (rough). Writes PNG and PDF.
 """
 import argparse
 import os
-import sys
 
-import matplotlib
+import numpy as np
+import fretbem_plot as fp
+from sweep_results import finished_rows
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from sweep_results import finished_rows, resolved_scenario  # noqa: E402
+TOOL = "plot_energy_per_cycle"
 
 
-def mindlin(cp):
-    E, nu = float(cp["material"]["E"]), float(cp["material"]["nu"])
-    mu = float(cp["material"]["mu"])
-    if cp["material"].get("E2", "").strip():
-        sys.exit("plot_energy_per_cycle: a second elastic body is not handled here")
-    if cp["surface"]["type"].strip() != "sphere":
-        return None
-    R = float(cp["surface"]["radius"])
-    P = float(cp["load"]["normal_force"])
-    E_star = E / (1 - nu**2)
-    G_star = 2 * E / ((1 + nu) * (2 - nu))  # 4G/(2 - nu), rigid indenter
-    a = (3 * P * R / (4 * E_star)) ** (1 / 3)
-    ustar = mu * a * a / R * E_star / G_star
-    h = float(cp["grid"]["length"]) / int(cp["grid"]["n"])
-    return mu * P, ustar, a, h
-
-
-def energy(muP, ustar, q):
-    q = np.asarray(q, dtype=float)
-    return 24 / 5 * muP * ustar * (1 - (1 - q) ** (5 / 3) - 5 * q / 6 * (1 + (1 - q) ** (2 / 3)))
+def plot_sphere(rows, scn, out):
+    c = fp.Contact(scn)
+    muP, a = c.mu * c.P, c.hertz_radius()
+    ustar = c.sliding_shift(a * a / c.R)
+    h = fp.number(scn, "grid.length") / fp.number(scn, "grid.n")
+    q = np.array([float(r["load.amplitude"]) for r in rows])
+    W = np.array([float(r["dissipated_energy"]) for r in rows])
+    ring = a * (1 - (1 - q) ** (1 / 3)) / h
+    Wmd = c.md_energy(q * muP)
+    print("q, W (J), W Mindlin-Deresiewicz (J), ratio, slip annulus (cells)")
+    for i in np.argsort(q):
+        print(f"{q[i]:.4g}, {W[i]:.6g}, {Wmd[i]:.6g}, {W[i] / Wmd[i]:.4f}, {ring[i]:.2f}")
+    fig, axs = fp.figure(width=4.2, height=3.2)
+    ax = axs[0, 0]
+    qq = np.logspace(np.log10(min(q.min(), 0.01)), np.log10(0.999), 200)
+    ax.loglog(qq, c.md_energy(qq * muP) / (muP * ustar), "k-", lw=1, label="Mindlin–Deresiewicz")
+    ax.loglog(qq, 4 / 27 * qq**3, "k:", lw=1, label="slope 3: (4/27) q³")
+    ok = ring >= 2
+    ax.loglog(q[ok], W[ok] / (muP * ustar), "o", color="C0", label="fretbem (annulus ≥ 2 cells)")
+    ax.loglog(q[~ok], W[~ok] / (muP * ustar), "o", mfc="none", color="C0",
+              label="fretbem (annulus < 2 cells)")
+    ax.set_xlabel("Q*/(μP)")
+    ax.set_ylabel("W / (μP u*)")
+    ax.set_title(f"energy per cycle, sphere, a/h = {a / h:.0f}")
+    ax.legend()
+    fp.save(fig, out)
 
 
 def plot_rough(rows, out):
@@ -59,7 +62,8 @@ def plot_rough(rows, out):
         label = ", ".join(f"{k} = {r[k]}" for k in keys) or "all"
         groups.setdefault(label, {}).setdefault(float(r["load.amplitude"]), []).append(
             float(r["dissipated_energy"]))
-    fig, ax = plt.subplots(figsize=(6, 4.5))
+    fig, axs = fp.figure(width=4.2, height=3.2)
+    ax = axs[0, 0]
     print("group, q, W mean (J), W min, W max, seeds")
     for i, (label, by_q) in enumerate(sorted(groups.items())):
         q = np.array(sorted(by_q))
@@ -74,11 +78,9 @@ def plot_rough(rows, out):
     ax.loglog(qq, W0 * (qq / q0) ** 3, "k:", lw=1, label="slope 3")
     ax.set_xlabel("Q*/(μP)")
     ax.set_ylabel("energy per cycle W (J)")
-    ax.set_title("energy per cycle, rough surfaces (mean and range over seeds)")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    print(f"plot_energy_per_cycle: wrote {out}")
+    ax.set_title("energy per cycle, rough surfaces (mean, range over seeds)")
+    ax.legend()
+    fp.save(fig, out)
 
 
 def main():
@@ -86,36 +88,15 @@ def main():
     ap.add_argument("study_dir")
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
-    rows = finished_rows(args.study_dir, "plot_energy_per_cycle")
+    rows = finished_rows(args.study_dir, TOOL)
     if "load.amplitude" not in rows[0]:
-        sys.exit("plot_energy_per_cycle: load.amplitude is not varied in this study")
-    model = mindlin(resolved_scenario(os.path.join(args.study_dir, rows[0]["dir"])))
+        fp.fail(TOOL, "load.amplitude is not varied in this study")
+    scn = fp.read_scenario(os.path.join(args.study_dir, rows[0]["dir"]))
     out = args.out or os.path.join(args.study_dir, "energy_per_cycle.png")
-    if model is None:
-        return plot_rough(rows, out)
-    muP, ustar, a, h = model
-    q = np.array([float(r["load.amplitude"]) for r in rows])
-    W = np.array([float(r["dissipated_energy"]) for r in rows])
-    ring = a * (1 - (1 - q) ** (1 / 3)) / h
-    Wmd = energy(muP, ustar, q)
-    print("q, W (J), W Mindlin-Deresiewicz (J), ratio, slip annulus (cells)")
-    for i in np.argsort(q):
-        print(f"{q[i]:.4g}, {W[i]:.6g}, {Wmd[i]:.6g}, {W[i] / Wmd[i]:.4f}, {ring[i]:.2f}")
-    fig, ax = plt.subplots(figsize=(6, 4.5))
-    qq = np.logspace(np.log10(min(q.min(), 0.01)), np.log10(0.999), 200)
-    ax.loglog(qq, energy(muP, ustar, qq) / (muP * ustar), "k-", lw=1, label="Mindlin–Deresiewicz")
-    ax.loglog(qq, 4 / 27 * qq**3, "k:", lw=1, label="slope 3: (4/27) q³")
-    ok = ring >= 2
-    ax.loglog(q[ok], W[ok] / (muP * ustar), "o", color="C0", label="fretbem (annulus ≥ 2 cells)")
-    ax.loglog(q[~ok], W[~ok] / (muP * ustar), "o", mfc="none", color="C0",
-              label="fretbem (annulus < 2 cells)")
-    ax.set_xlabel("Q*/(μP)")
-    ax.set_ylabel("W / (μP u*)")
-    ax.set_title(f"energy per cycle, sphere, a/h = {a / h:.0f}")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    print(f"plot_energy_per_cycle: wrote {out}")
+    if fp.Contact(scn).hertz_ok:
+        plot_sphere(rows, scn, out)
+    else:
+        plot_rough(rows, out)
 
 
 if __name__ == "__main__":

@@ -9,23 +9,22 @@ Per member: f = F_x/(mu F_z) and k_x/k_x0 (k_x0: row 0) from its timeseries.csv,
 still rises; alpha is the least-squares slope of log(k_x/k_x0) against log(1 - f) through the
 origin over f <= 0.9 (as docs/paper-reproduction.md); the contact fraction is the row-0
 contact area over the domain area. Prints one line per member and plots alpha against the
-contact fraction per H, with eq. 25's 1/(1+H) as dashed lines.
+contact fraction per H, with eq. 25's 1/(1+H) as dashed lines. Writes PNG and PDF.
 """
 import argparse
 import csv
 import os
 
-import matplotlib
+import numpy as np
+import fretbem_plot as fp
+from sweep_results import finished_rows
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from sweep_results import finished_rows, resolved_scenario  # noqa: E402
+TOOL = "plot_fig3_contact_fraction"
 
 
 def scenario_values(member_dir):
-    cp = resolved_scenario(member_dir)
-    return float(cp["material"]["mu"]), float(cp["grid"]["length"]), float(cp["surface"]["hurst"])
+    scn = fp.read_scenario(member_dir)
+    return fp.number(scn, "material.mu"), fp.number(scn, "grid.length"), fp.number(scn, "surface.hurst")
 
 
 def fitted_alpha(member_dir, mu, length):
@@ -51,7 +50,7 @@ def main():
     ap.add_argument("study_dir")
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
-    rows = finished_rows(args.study_dir, "plot_fig3_contact_fraction")
+    rows = finished_rows(args.study_dir, TOOL)
     by_h = {}
     print("H, F_z (N), contact fraction (%), fitted alpha, 1/(1+H)")
     for r in rows:
@@ -61,7 +60,8 @@ def main():
         by_h.setdefault(H, []).append((contact, alpha))
         print(f"{H:g}, {r.get('load.normal_force', '')}, {100 * contact:.3f}, {alpha:.3f}, "
               f"{1 / (1 + H):.3f}")
-    fig, ax = plt.subplots(figsize=(6, 4.5))
+    fig, axs = fp.figure(width=4.2, height=3.2)
+    ax = axs[0, 0]
     for i, H in enumerate(sorted(by_h)):
         pts = sorted(by_h[H])
         c = np.array([p[0] for p in pts]) * 100
@@ -71,11 +71,8 @@ def main():
     ax.set_xlabel("contact fraction A/L² (%)")
     ax.set_ylabel("fitted α in k_x/k_x0 = (1 − F_x/μF_z)^α")
     ax.set_title("eq. 25 (dashed: 1/(1+H)) against contact fraction")
-    ax.legend(fontsize=8)
-    out = args.out or os.path.join(args.study_dir, "fig3_contact_fraction.png")
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    print(f"plot_fig3_contact_fraction: wrote {out}")
+    ax.legend()
+    fp.save(fig, args.out or os.path.join(args.study_dir, "fig3_contact_fraction.png"))
 
 
 if __name__ == "__main__":
