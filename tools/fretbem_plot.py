@@ -103,57 +103,33 @@ def number(scn, key, default=None):
         return default
 
 
-class Contact:
-    """Effective moduli (DESIGN §1) and, for spheres under a constant normal force, Hertz and
-    Mindlin–Deresiewicz (Johnson, Contact Mechanics, §§4.2, 7.2, 7.5)."""
+def _closed_forms():
+    """python/fretbem/closed_forms.py, loaded by path: the plot tools need no compiled module."""
+    import importlib.util
+
+    here = os.path.dirname(os.path.abspath(__file__))
+    path = os.path.join(here, "..", "python", "fretbem", "closed_forms.py")
+    spec = importlib.util.spec_from_file_location("fretbem_closed_forms", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+_cf = _closed_forms()
+
+
+class Contact(_cf.Contact):
+    """The closed forms of a run, its effective moduli read from the resolved scenario."""
 
     def __init__(self, scn):
-        E1, n1 = number(scn, "material.E"), number(scn, "material.nu")
-        E2, n2 = number(scn, "material.E2"), number(scn, "material.nu2")
-        self.mu = number(scn, "material.mu", 0.3)
-        inv_e = (1 - n1**2) / E1
-        inv_g = (2 - n1) / (4 * E1 / (2 * (1 + n1)))
-        if E2 is not None and n2 is not None:
-            inv_e += (1 - n2**2) / E2
-            inv_g += (2 - n2) / (4 * E2 / (2 * (1 + n2)))
-        self.E_star, self.G_star = 1 / inv_e, 1 / inv_g
-        self.sphere = scn.get("surface.type") == "sphere"
-        self.R = number(scn, "surface.radius")
-        self.P = number(scn, "load.normal_force")
+        def body(e, n):
+            return (number(scn, e), number(scn, n)) if scn.get(e) else None
 
-    @property
-    def hertz_ok(self):
-        return self.sphere and self.R is not None and self.P is not None
-
-    def hertz_radius(self):
-        return (3 * self.P * self.R / (4 * self.E_star)) ** (1 / 3)
-
-    def sliding_shift(self, delta):
-        """Full-sliding shift U* = mu delta E*/G* (delta: normal approach)."""
-        return self.mu * delta * self.E_star / self.G_star
-
-    def md_shift(self, Q):
-        """Monotone Cattaneo–Mindlin shift under tangential force Q (|Q| < mu P):
-        (3 mu P / 4 a G*) (1 - (1 - Q/mu P)^(2/3)), odd in Q."""
-        a, muP = self.hertz_radius(), self.mu * self.P
-        Q = np.asarray(Q, dtype=float)
-        return np.sign(Q) * 3 * muP / (4 * a * self.G_star) * (1 - (1 - np.abs(Q) / muP) ** (2 / 3))
-
-    def md_loop(self, Q_star, points=200):
-        """Steady Mindlin–Deresiewicz loop between -Q* and +Q* (Masing: branches are the
-        monotone curve doubled in size): (U, F) along unloading then reloading."""
-        Q = np.linspace(Q_star, -Q_star, points)
-        down = self.md_shift(Q_star) - 2 * self.md_shift((Q_star - Q) / 2)
-        # Reloading is unloading mirrored through the origin: U_up(-F) = -U_down(F).
-        return np.concatenate((down, -down)), np.concatenate((Q, -Q))
-
-    def md_energy(self, Q_star):
-        """Energy per cycle (J): (9 mu^2 P^2 / 10 a)(4/G*)[1 - (1-x)^(5/3) - (5x/6)(1 + (1-x)^(2/3))],
-        x = Q*/mu P (Johnson eq. 7.60 with (2-nu1)/G1 + (2-nu2)/G2 = 4/G*)."""
-        a, muP = self.hertz_radius(), self.mu * self.P
-        x = Q_star / muP
-        bracket = 1 - (1 - x) ** (5 / 3) - 5 * x / 6 * (1 + (1 - x) ** (2 / 3))
-        return 9 * muP**2 / (10 * a) * 4 / self.G_star * bracket
+        super().__init__(body("material.E", "material.nu"), body("material.E2", "material.nu2"),
+                         mu=number(scn, "material.mu", 0.3),
+                         radius=number(scn, "surface.radius")
+                         if scn.get("surface.type") == "sphere" else None,
+                         normal_force=number(scn, "load.normal_force"))
 
 
 def cycle_of_steps(time):
