@@ -94,6 +94,10 @@ struct WearReport {
   /// Implicit integrator: Newton iterations and their convergence failures, Krylov iterations
   /// (wear.newton = krylov), inner CG iterations (= convolutions) of the frozen-slip solves.
   long newton_iterations = 0, newton_failures = 0, krylov_iterations = 0, inner_iterations = 0;
+  /// Cost guard: stretches of cycles simulated one by one where integrator steps were not
+  /// cheaper, and the cycles they covered.
+  long stretches = 0;
+  double stretch_cycles = 0.0;
   double N = 0.0;        ///< cycle count reached
   bool stopped = false;  ///< stopped by the step budget before wear.cycles
 };
@@ -122,6 +126,13 @@ class WearCycles {
   WearCycle carried(double N);
   /// The steady cycle of surface z0 - worn, from a fresh traction state (ODE right-hand side).
   WearCycle steady(double N, const Field& worn);
+  /// The next steady loop continuing the stepper's history after a steady() or continued()
+  /// whose wear was apply()'d: one cycle of the physical history (stretches of cycles in the
+  /// ODE modes).
+  WearCycle continued(double N);
+  /// Indentation of the unworn surface under the path's initial normal load (m): the depth
+  /// scale of the wear tolerances.
+  double initial_indentation();
   /// Pressure on surface z0 - worn under the scenario's normal load.
   Field pressure_on(const Field& worn);
   /// Removes one cycle's worn depth from the surface, z <- z - rate (cycle mode).
