@@ -413,8 +413,11 @@ double cycle_stretch(WearCycles& cyc, WearReport& rep, WearLog* log, double t, F
   for (long k = 0; k < L; ++k, t += 1.0) {
     WearCycle c = k == 0 ? cyc.steady(t, W) : cyc.continued(t);
     c.worn_hash = fingerprint(W);
-    c.accepted = true;
-    last = {t, c.worn_hash};
+    // The state the stretch starts from may have its accepted row already (the integrator
+    // step's last evaluation).
+    const std::pair<double, std::uint64_t> key{t, c.worn_hash};
+    c.accepted = key != last;
+    last = key;
     W += c.rate;
     if (k + 1 < L) cyc.apply(c.rate);
     keep(rep, std::move(c), log);
@@ -504,10 +507,13 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegr
       const bool unprofitable = kStepWorth * (cyc.simulated() - sim0) > t - t0;
       if (unprofitable) {
         stretch = stretched ? 2.0 * stretch : std::max(kMinStretch, cyc.simulated() - sim0);
-        const long L = long(std::min(stretch, std::floor(snaps[i] - t)));
+        // Whole cycles to the snapshot; t may sit a rounding error below a whole number.
+        const double eps = 1e-9 * std::max(1.0, snaps[i]);
+        const long L = long(std::min(stretch, std::floor(snaps[i] - t + eps)));
         if (L >= 1) {
           Field W = Wy();
           t = cycle_stretch(cyc, rep, log, t, W, L, last);
+          if (std::abs(t - snaps[i]) <= eps) t = snaps[i];
           Wy() = W;
         }
         stretched = L >= 1;
