@@ -22,7 +22,8 @@
 //    constant pressure that loop is closed from the first turning point on (Masing /
 //    Mindlin–Deresiewicz), so w is a function of z alone — not of a traction state carried
 //    from a different surface, which is what eroded the stick zone in the prototype.
-//  - dirk: the same ODE by ARKODE ARKStep, implicit SDIRK order 2, no step cap. Newton with the
+//  - dirk: the same ODE by ARKODE ARKStep, implicit TR-BDF2 (L-stable, stiffly
+//    accurate, order 2), no step cap. Newton with the
 //    frozen-slip Newton matrix (WearPreconditioner: the pressure response to wear with the slip
 //    of the last cycle held fixed, solved exactly by CG), or Jacobian-free Newton–Krylov
 //    (SPGMR, finite-difference Jacobian-vector products of the per-cycle wear map,
