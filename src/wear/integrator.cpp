@@ -89,6 +89,7 @@ WearReport integrate_cycles(Model& model, WearCycles& cyc, WearLog* log,
   if (!rep.stopped) rep.N = N_end;
   rep.simulated_cycles = cyc.simulated();
   rep.rhs_evaluations = cyc.evaluations();
+  rep.retries = cyc.retries();
   rep.steps = long(rep.N);
   return rep;
 }
@@ -578,6 +579,7 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegr
   model.surface = model.surface0 - rep.worn;
   rep.simulated_cycles = cyc.simulated();
   rep.rhs_evaluations = cyc.evaluations();
+  rep.retries = cyc.retries();
   return rep;
 }
 

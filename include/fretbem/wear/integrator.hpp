@@ -99,6 +99,7 @@ struct WearReport {
   /// cheaper, and the cycles they covered.
   long stretches = 0;
   double stretch_cycles = 0.0;
+  long retries = 0;      ///< failed steps that succeeded when retried warm-started (workaround)
   double N = 0.0;        ///< cycle count reached
   bool stopped = false;  ///< stopped by the step budget before wear.cycles
 };
@@ -142,6 +143,8 @@ class WearCycles {
   const Field& pressure() const { return stepper_.state().pressure; }
   double simulated() const { return simulated_; }
   int evaluations() const { return evaluations_; }
+  /// Steps whose solve failed and succeeded when retried warm-started (workaround, docs/wear.md).
+  long retries() const { return retries_; }
   WearCounters counters() const { return {simulated_, evaluations_, row_, index_}; }
   /// Resume: continue the counters; the stepper state was restored by the caller, and the
   /// surface changed since its last normal solve (cycle mode applies a cycle's wear before
@@ -151,6 +154,7 @@ class WearCycles {
  private:
   void fresh(const Field& worn);
   StepRecord step(const LoadStep& ls, double time, bool emit);
+  StepRecord advance(const LoadStep& ls, int index);
   WearCycle measure(double N, const std::vector<LoadStep>& steps, double t_shift);
 
   Model& model_;
@@ -161,6 +165,8 @@ class WearCycles {
   double turn_ = 0.0;                              // time of the first turning point
   double simulated_ = 0.0;
   int evaluations_ = 0, row_ = 0, index_ = 0;
+  Field warm_;        // last converged pressure (retry start of a failed step)
+  long retries_ = 0;  // failed steps retried
 };
 
 /// Runs wear.integrator to wear.cycles. log may be null. With `resume`, continues from that
