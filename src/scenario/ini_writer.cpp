@@ -137,7 +137,7 @@ void write_wear(IniWriter& w, const WearSpec& s) {
   static const char* integrators[] = {"arkode", "cycle", "erk", "dirk"};
   w.put("integrator", std::string(integrators[static_cast<int>(s.integrator)]));
   w.put("rtol", s.rtol);
-  w.put("atol", s.atol);
+  w.put("atol", s.atol > 0 ? std::optional<double>(s.atol) : std::nullopt);  // 0: not given
   w.put("newton", std::string(s.newton == WearNewton::frozen ? "frozen" : "krylov"));
   w.put("indenter_share", s.indenter_share);
 }

@@ -92,7 +92,9 @@ struct WearSpec {
   double coefficient = 0.0;  ///< Archard k (1/Pa) or energy alpha (m^3/J = 1/Pa)
   double cycles = 0.0;       ///< cycle count N to integrate to
   WearIntegrator integrator = WearIntegrator::arkode;
-  double rtol = 1e-3, atol = 1e-9;
+  /// ARKODE tolerances on the worn depth W: relative, and absolute (m); atol = 0 (not given):
+  /// rtol x the indentation of the unworn surface (issue 12).
+  double rtol = 1e-3, atol = 0.0;
   WearNewton newton = WearNewton::frozen;
   /// Share of the worn depth taken by the indenter, the rest by the half-space (issue 6:
   /// "split between the two bodies with a ratio when both wear"); 1 = indenter only.
