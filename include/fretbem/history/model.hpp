@@ -3,12 +3,13 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
-#include "fretbem/history/load_path.hpp"
 #include "fretbem/contact/normal_solver.hpp"
-#include "fretbem/scenario/scenario.hpp"
 #include "fretbem/contact/stiffness.hpp"
 #include "fretbem/contact/tangential_solver.hpp"
+#include "fretbem/history/load_path.hpp"
+#include "fretbem/scenario/scenario.hpp"
 #include "fretbem/wear/law.hpp"
 
 namespace fretbem {
@@ -24,6 +25,9 @@ struct Model {
   std::unique_ptr<TangentialSolver> tangential;
   std::unique_ptr<StiffnessSolver> stiffness;  ///< null when solver.stiffness = false
   std::unique_ptr<WearModel> wear;             ///< null when wear.law = none
+  /// Identity of this run's outputs (result.h5 /run_id and the checkpoint's run_id): set
+  /// when a run starts, kept by a resume, so outputs of different runs are never mixed.
+  std::string run_id;
 };
 
 /// Builds the surface and operators. The tangential operator is one-component (no y-solve)
