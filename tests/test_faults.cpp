@@ -383,6 +383,19 @@ TEST_F(Faults, EnsembleRefusesDuplicateHurstAndHugeBins) {
   EXPECT_FALSE(fs::exists(dir_ / "e" / "aggregate.csv"));
 }
 
+// Step counts that pass the key ranges but cannot fit in memory are refused by `check` and
+// `run` with the key named (issue 14 item 9: load.steps = 2^30 ended in bad_alloc).
+TEST_F(Faults, HugeStepCountsAreRefused) {
+  for (const std::string cmd : {"check ", "run "}) {
+    const Result r =
+        run(cmd + kScenario + " --quiet --set load.path=ramp --set load.steps=1073741824 --out " +
+                (dir_ / "s").string(),
+            dir_);
+    EXPECT_EQ(r.code, 2) << cmd << r.err;
+    EXPECT_NE(r.err.find("load.steps"), std::string::npos) << cmd << r.err;
+  }
+}
+
 // Determinism: the same scenario gives a byte-identical timeseries.csv run after run and with
 // 1 or 2 FFT threads (n = 32, the first 40 steps; docs/reliability.md).
 TEST_F(Faults, TimeseriesIsByteIdenticalAcrossRunsAndThreads) {
