@@ -81,6 +81,7 @@ ResultFile::ResultFile(const std::filesystem::path& dir, const Model& m, long re
     h5_.truncate_timeseries(std::size_t(resume_rows));
     return;
   }
+  h5_.write_text("/run_id", m.run_id);
   h5_.write_text("/scenario", m.scenario.resolved_text);
   h5_.write_field("/surface/initial", m.surface0);
   h5_.start_timeseries(StepRecord::columns());

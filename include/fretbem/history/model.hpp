@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/contact/stiffness.hpp"
@@ -24,6 +25,9 @@ struct Model {
   std::unique_ptr<TangentialSolver> tangential;
   std::unique_ptr<StiffnessSolver> stiffness;  ///< null when solver.stiffness = none
   std::unique_ptr<WearModel> wear;             ///< null when wear.law = none
+  /// Identity of this run's outputs (result.h5 /run_id and the checkpoint's run_id): set
+  /// when a run starts, kept by a resume, so outputs of different runs are never mixed.
+  std::string run_id;
 };
 
 /// Whether the step with this index and turning flag reports kx (solver.stiffness): every
