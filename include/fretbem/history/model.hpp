@@ -4,11 +4,11 @@
 
 #include <memory>
 
-#include "fretbem/history/load_path.hpp"
 #include "fretbem/contact/normal_solver.hpp"
-#include "fretbem/scenario/scenario.hpp"
 #include "fretbem/contact/stiffness.hpp"
 #include "fretbem/contact/tangential_solver.hpp"
+#include "fretbem/history/load_path.hpp"
+#include "fretbem/scenario/scenario.hpp"
 #include "fretbem/wear/law.hpp"
 
 namespace fretbem {
@@ -26,6 +26,11 @@ struct Model {
   std::unique_ptr<WearModel> wear;             ///< null when wear.law = none
 };
 
+/// Everything a run does before it allocates the operators: the memory guard, the load path
+/// (tables read), the surface (files read), the wear law and the pre-flight checks
+/// (preflight.hpp). `fretbem check` stops here; build_model goes on from here.
+std::unique_ptr<Model> prepare_model(const Scenario& sc);
+/// prepare_model, then the half-space operator and the solvers.
 /// Builds the surface and operators. The tangential operator is one-component (no y-solve)
 /// when the coupling is the analogy and the path is collinear.
 std::unique_ptr<Model> build_model(const Scenario& sc);

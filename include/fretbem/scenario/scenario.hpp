@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/elastic/grid.hpp"
 #include "fretbem/elastic/half_space.hpp"
 #include "fretbem/elastic/material.hpp"
-#include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/surface/surface.hpp"
 
 namespace fretbem {
@@ -94,8 +94,9 @@ struct WearSpec {
 };
 
 struct Scenario {
-  std::string name;           ///< file stem
-  std::string resolved_text;  ///< every key with its final value, INI syntax
+  std::string name;                     ///< file stem
+  std::string resolved_text;            ///< every key with its final value, INI syntax
+  std::vector<std::string> given_keys;  ///< keys the file and overrides set (sorted)
   Material material;
   Grid grid;
   SurfaceSpec surface;
