@@ -16,6 +16,7 @@ FRETBEM_REQUIRED_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libfftw3-dev libsundials-dev libhdf5-dev libboost-program-options-dev
   libgtest-dev googletest python3
+  pybind11-dev python3-dev python3-numpy
 )
 # Only the plotting scripts (tools/plot_*.py) and h5dump use these; clang-14 and its runtime
 # build the sanitized tests with float-cast-overflow and the libFuzzer targets
@@ -96,7 +97,7 @@ fretbem_configure_sanitized() {
   fi
   fretbem_log "configuring $FRETBEM_BUILD_DIR/ (sanitized, Ninja)"
   cmake -S "$FRETBEM_ROOT" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DFRETBEM_SANITIZE=ON "${compilers[@]}"
+    -DFRETBEM_SANITIZE=ON -DFRETBEM_PYTHON=OFF "${compilers[@]}"
 }
 
 # Configures (Release, Ninja) on first use and builds the given targets (default: all).

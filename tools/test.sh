@@ -17,8 +17,9 @@ if [[ "${1:-}" == --sanitize ]]; then
   shift
 fi
 
-# shellcheck disable=SC2119  # no arguments on purpose: required packages only, all targets
-fretbem_install_dependencies
+# The plotting packages are installed too: the suite tests the plot tools with them (and the
+# optional list carries clang-14 for the sanitized build).
+fretbem_install_dependencies --with-optional
 
 if [[ $sanitize == 1 ]]; then
   FRETBEM_BUILD_DIR=build-sanitize
