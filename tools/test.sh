@@ -18,8 +18,9 @@ if [[ "${1:-}" == --sanitize ]]; then
 fi
 
 # The plotting packages are installed too: the suite tests the plot tools with them (and the
-# optional list carries clang-14 for the sanitized build).
-fretbem_install_dependencies --with-optional
+# optional list carries clang-14 for the sanitized build); and OpenMPI, so that the MPI sweep
+# tests run (docs/cluster.md).
+fretbem_install_dependencies --with-optional --with-mpi
 
 if [[ $sanitize == 1 ]]; then
   FRETBEM_BUILD_DIR=build-sanitize
