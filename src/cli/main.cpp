@@ -13,6 +13,7 @@
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/history/check_report.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/io/checkpoint.hpp"
@@ -225,11 +226,18 @@ int cmd_run(const Args& a) {
   return run_model(*model, stepper, -1, a);
 }
 
+// Everything `run` does before its first solve (prepare_model: files read, memory guard,
+// pre-flight checks), then the report; no operator is built.
 int cmd_check(const Args& a) {
-  const Scenario sc = read_scenario(a);
-  make_load_path(sc);  // also validates path tables
-  std::printf("%s: ok (%d x %d grid, %zu load steps)\n", a.scenario.c_str(), sc.grid.nx, sc.grid.ny,
-              make_load_path(sc).steps.size());
+  const auto model = prepare_model(read_scenario(a));
+  const Scenario& sc = model->scenario;
+  if (sc.wear.law == WearLaw::none)
+    std::printf("%s: ok (%d x %d grid, %zu load steps)\n", a.scenario.c_str(), sc.grid.nx,
+                sc.grid.ny, model->path.steps.size());
+  else
+    std::printf("%s: ok (%d x %d grid, wear run of %s cycles)\n", a.scenario.c_str(), sc.grid.nx,
+                sc.grid.ny, format_number(sc.wear.cycles).c_str());
+  std::fputs(check_report(*model).c_str(), stdout);
   return 0;
 }
 

@@ -102,9 +102,12 @@ std::string_view short_name(std::string_view key) {
 std::string suggestion(std::string_view key, const std::vector<std::string>& names) {
   std::string best;
   std::size_t best_score = std::numeric_limits<std::size_t>::max();
+  // Case-blind: `NU` is one capital away from material.nu but two edits from material.E.
+  const std::string k = lower(std::string(key));
   for (const auto& name : names) {
+    const std::string n = lower(name);
     const std::size_t score =
-        std::min(edit_distance(key, name), edit_distance(short_name(key), short_name(name)) + 1);
+        std::min(edit_distance(k, n), edit_distance(short_name(k), short_name(n)) + 1);
     if (score < best_score) best_score = score, best = name;
   }
   const std::size_t limit = std::max<std::size_t>(2, short_name(key).size() / 3);

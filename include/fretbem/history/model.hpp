@@ -34,6 +34,11 @@ struct Model {
 /// step, or (turning) the ends of monotone segments — step 0, turning points and the path's
 /// last step, which the paths flag as turning.
 bool stiffness_wanted(const Model& model, int step, bool turning);
+/// Everything a run does before it allocates the operators: the memory guard, the load path
+/// (tables read), the surface (files read), the wear law and the pre-flight checks
+/// (preflight.hpp). `fretbem check` stops here; build_model goes on from here.
+std::unique_ptr<Model> prepare_model(const Scenario& sc);
+/// prepare_model, then the half-space operator and the solvers.
 /// Builds the surface and operators. The tangential operator is one-component (no y-solve)
 /// when the coupling is the analogy and the path is collinear.
 std::unique_ptr<Model> build_model(const Scenario& sc);

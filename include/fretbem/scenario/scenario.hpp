@@ -102,8 +102,9 @@ struct WearSpec {
 };
 
 struct Scenario {
-  std::string name;           ///< file stem
-  std::string resolved_text;  ///< every key with its final value, INI syntax
+  std::string name;                     ///< file stem
+  std::string resolved_text;            ///< every key with its final value, INI syntax
+  std::vector<std::string> given_keys;  ///< keys the file and overrides set (sorted)
   Material material;
   Grid grid;
   SurfaceSpec surface;
