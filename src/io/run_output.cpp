@@ -16,6 +16,13 @@ Field global_component(const VecField& v, const TangentialOperator& op, int c) {
   return v[0] * (c == 0 ? op.direction().x() : op.direction().y());
 }
 
+// 0 open, 1 stick, 2 slip (DESIGN §4): stuck-at-bound nodes did not slip, so they are stick.
+Field state_field(const StateField& state) {
+  const StateField at_bound =
+      StateField::Constant(state.rows(), state.cols(), std::uint8_t(NodeState::stuck_at_bound));
+  return (state == at_bound).select(double(NodeState::stick), state.cast<double>());
+}
+
 void check_finite(const StepRecord& rec, bool kx_on) {
   const auto vals = rec.values();
   const auto& cols = StepRecord::columns();
@@ -36,7 +43,7 @@ std::map<std::string, Field> output_fields(const std::vector<std::string>& names
     if (n == "pressure") out[n] = s.pressure;
     if (n == "traction_x") out[n] = global_component(s.traction, op, 0);
     if (n == "traction_y") out[n] = global_component(s.traction, op, 1);
-    if (n == "state") out[n] = s.state.cast<double>();
+    if (n == "state") out[n] = state_field(s.state);
     if (n == "slip_x") out[n] = global_component(s.slip, op, 0);
     if (n == "slip_y") out[n] = global_component(s.slip, op, 1);
     if (n == "dissipation") out[n] = s.dissipation;

@@ -22,6 +22,8 @@ struct StepRecord {
   double normal_residual = 0, tangential_residual = 0;
   int convolutions = 0;  ///< FFT convolutions this step used
   bool turning = false;  ///< turning point of the load path
+  /// Part of stick_area on its Coulomb bound without slipping this step (m^2).
+  double stuck_at_bound_area = 0;
 
   /// Column names, in the order of values(); the first 18 are the DESIGN §4 contract.
   static const std::vector<std::string>& columns();
