@@ -12,6 +12,8 @@
 #include "fretbem/study/ensemble.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/history/model.hpp"
+#include "fretbem/history/resolution.hpp"
+#include "fretbem/io/resolution_report.hpp"
 #include "fretbem/io/run_output.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/history/stepper.hpp"
@@ -123,7 +125,11 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
       cycles.on_step(r, stepper.state(), model);
   Checkpointer checkpoint(dir, stepper, model.scenario.output.checkpoint_every);
   ProgressLine progress(stepper.steps());
-  std::vector<Observer*> obs{&csv, &h5, &cycles, &checkpoint};
+  ResolutionReport resolution;
+  if (resume_rows > 0)
+    for (const auto& r : read_timeseries(dir, std::size_t(resume_rows)))
+      resolution.on_step(r, stepper.state(), model);
+  std::vector<Observer*> obs{&csv, &h5, &cycles, &checkpoint, &resolution};
   if (!quiet) obs.push_back(&progress);
   const std::size_t budget = a.stop_after > 0 ? std::size_t(a.stop_after) : SIZE_MAX;
   stepper.run(obs, budget);
@@ -133,6 +139,9 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
                 stepper.memory().next_step - 1, stepper.steps() - 1, dir.string().c_str());
     return 0;
   }
+  for (const auto& w : resolution.warnings()) std::fprintf(stderr, "fretbem: %s\n", w.c_str());
+  if (!quiet && !resolution.summary().empty())
+    std::printf("fretbem: %s\n", resolution.summary().c_str());
   if (!quiet)
     std::printf(
         "fretbem: %zu steps done\n  time series: %s\n  cycles:      %s\n  fields:      %s\n",
@@ -172,9 +181,12 @@ int cmd_run(const Args& a) {
 
 int cmd_check(const Args& a) {
   const Scenario sc = read_scenario(a);
-  make_load_path(sc);  // also validates path tables
+  const std::size_t steps = make_load_path(sc).steps.size();  // also validates path tables
   std::printf("%s: ok (%d x %d grid, %zu load steps)\n", a.scenario.c_str(), sc.grid.nx, sc.grid.ny,
-              make_load_path(sc).steps.size());
+              steps);
+  // Resolution and domain predicted from Hertz for spheres (issues 17 §3, 18).
+  if (const auto p = predict_sphere(sc))
+    for (const auto& line : describe(*p, sc)) std::printf("  %s\n", line.c_str());
   return 0;
 }
 

@@ -1,5 +1,7 @@
 #include "fretbem/history/observables.hpp"
 
+#include "fretbem/history/resolution.hpp"
+
 namespace fretbem {
 
 const std::vector<std::string>& StepRecord::columns() {
@@ -25,7 +27,10 @@ const std::vector<std::string>& StepRecord::columns() {
                                           "tangential_residual",
                                           "convolutions",
                                           "turning",
-                                          "stuck_at_bound_area"};
+                                          "stuck_at_bound_area",
+                                          "slip_ring_cells",
+                                          "contact_nodes",
+                                          "edge_load_share"};
   return c;
 }
 
@@ -52,7 +57,10 @@ std::vector<double> StepRecord::values() const {
           tangential_residual,
           double(convolutions),
           turning ? 1.0 : 0.0,
-          stuck_at_bound_area};
+          stuck_at_bound_area,
+          slip_ring_cells,
+          double(contact_nodes),
+          edge_load_share};
 }
 
 StepRecord StepRecord::from_values(const std::vector<double>& v) {
@@ -66,6 +74,8 @@ StepRecord StepRecord::from_values(const std::vector<double>& v) {
   r.normal_residual = v[18], r.tangential_residual = v[19], r.convolutions = int(v[20]);
   r.turning = v[21] != 0.0;
   if (v.size() > 22) r.stuck_at_bound_area = v[22];
+  if (v.size() > 25)
+    r.slip_ring_cells = v[23], r.contact_nodes = long(v[24]), r.edge_load_share = v[25];
   return r;
 }
 
@@ -77,6 +87,8 @@ void measure_areas(const InterfaceState& s, const TangentialOperator& op, StepRe
   const auto slip = (s.state == std::uint8_t(NodeState::slip));
   r.stick_area = stick.count() * a;
   r.stuck_at_bound_area = at_bound.count() * a;
+  r.slip_ring_cells = slip_ring_cells(s.state);
+  r.contact_nodes = contact_nodes(s.state);
   r.slip_area = slip.count() * a;
   r.contact_area = r.stick_area + r.slip_area;
   // x component of the traction in global axes.

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "fretbem/contact/monotone_shortcut.hpp"
+#include "fretbem/history/resolution.hpp"
 
 namespace fretbem {
 
@@ -70,6 +71,7 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
   measure_areas(state_, op, rec);
   rec.kx = std::numeric_limits<double>::quiet_NaN();
   if (model_.stiffness) rec.kx = model_.stiffness->solve(state_.state).kx;
+  rec.edge_load_share = model_.scenario.grid.periodic ? 0.0 : edge_load_share(state_.pressure);
   rec.dissipation = dissipation_;
   rec.wear_volume = wear_volume_;
   rec.convolutions = int(hs.convolutions() - conv0);
@@ -95,6 +97,8 @@ bool Stepper::normal_step(const LoadStep& ls, StepRecord& rec) {
   state_.indentation = r.indentation + datum;
   bound_start_.swap(bound_);  // the bound at the start of the step (dissipation, below)
   bound_ = model_.scenario.material.mu * state_.pressure;
+  check_edge_contact(model_.scenario, edge_load_share(state_.pressure),
+                     "step " + std::to_string(rec.step));
   rec.normal_iterations = r.iterations;
   rec.normal_residual = r.residual;
   return true;

@@ -3,8 +3,8 @@
 #include <chrono>
 #include <cstdio>
 
-#include "fretbem/io/checkpoint.hpp"
 #include "fretbem/core/errors.hpp"
+#include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/csv_writer.hpp"
 #include "fretbem/io/run_output.hpp"
 #include "fretbem/wear/integrator.hpp"

@@ -50,7 +50,7 @@ void write_material(IniWriter& w, const Material& m) {
   w.put("mu", m.mu);
 }
 
-void write_grid(IniWriter& w, const Grid& g) {
+void write_grid(IniWriter& w, const Grid& g, bool allow_edge_contact) {
   w.section("grid");
   if (g.nx == g.ny) {
     w.put("n", g.nx);
@@ -60,6 +60,7 @@ void write_grid(IniWriter& w, const Grid& g) {
   }
   w.put("length", g.length_x());
   w.put("periodic", g.periodic);
+  w.put("allow_edge_contact", allow_edge_contact);
 }
 
 void write_surface(IniWriter& w, const SurfaceSpec& s) {
@@ -147,7 +148,7 @@ std::string resolved_text(const Scenario& s) {
   w.raw("# fretbem " FRETBEM_VERSION " resolved scenario '" + s.name + "'");
   w.raw("# relative paths below were resolved against the scenario's folder");
   write_material(w, s.material);
-  write_grid(w, s.grid);
+  write_grid(w, s.grid, s.allow_edge_contact);
   write_surface(w, s.surface);
   write_load(w, s.load);
   write_solver(w, s.solver);

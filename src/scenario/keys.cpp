@@ -23,6 +23,7 @@ const std::vector<std::string> kKeys = {
     "grid.ny",
     "grid.length",
     "grid.periodic",
+    "grid.allow_edge_contact",
     "surface.type",
     "surface.radius",
     "surface.hurst",

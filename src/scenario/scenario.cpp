@@ -33,6 +33,7 @@ Scenario parse_scenario(const std::string& text, const std::string& name,
   s.name = fs::path(name).stem().string();
   read_material(r, s.material);
   read_grid(r, s.grid);
+  if (r.has("grid.allow_edge_contact")) s.allow_edge_contact = r.boolean("grid.allow_edge_contact");
   read_surface(r, base_dir, s.surface);
   read_load(r, base_dir, s.load);
   read_solver(r, s.solver);

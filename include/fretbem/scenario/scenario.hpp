@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/elastic/grid.hpp"
 #include "fretbem/elastic/half_space.hpp"
 #include "fretbem/elastic/material.hpp"
-#include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/surface/surface.hpp"
 
 namespace fretbem {
@@ -103,6 +103,9 @@ struct Scenario {
   SolverSpec solver;
   OutputSpec output;
   WearSpec wear;
+  /// grid.allow_edge_contact: run even when a free-boundary grid carries more than
+  /// kEdgeLoadShareLimit of the normal load on its outermost cells (issue 18).
+  bool allow_edge_contact = false;
 };
 
 /// Reads, merges overrides ("section.key=value", applied after the file) and validates.
