@@ -99,6 +99,7 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
         std::max({sc.solver.tolerance, 1e-9, m->half_space->min_tolerance()}),
         sc.solver.max_iterations);
   m->wear = make_wear_model(sc.wear);
+  m->friction = make_friction_law(sc.friction, sc.material.mu);
   return m;
 }
 

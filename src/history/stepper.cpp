@@ -28,7 +28,7 @@ StepperMemory Stepper::memory() const {
 
 void Stepper::restore(const InterfaceState& state, const StepperMemory& m) {
   state_ = state;
-  bound_ = model_.scenario.material.mu * state_.pressure;
+  model_.friction->bound(state_, bound_);
   next_ = m.next_step;
   last_normal_ = m.last_normal;
   last_target_ = m.last_target;
@@ -50,8 +50,9 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
   rec.time = ls.time;
   rec.cycle = ls.cycle;
   rec.turning = ls.turning;
-  const bool bound_changed = normal_step(ls, rec);
+  bool bound_changed = normal_step(ls, rec);
   bound_moved_ = bound_changed;
+  if (!bound_changed && k > 0 && model_.friction->evolves()) bound_changed = friction_step();
   bool incremented = false;
   if (k > 0 && shortcut_applies(k))
     shortcut_step(ls, rec), incremented = true;
@@ -96,11 +97,22 @@ bool Stepper::normal_step(const LoadStep& ls, StepRecord& rec) {
   state_.normal_force = r.force;
   state_.indentation = r.indentation + datum;
   bound_start_.swap(bound_);  // the bound at the start of the step (dissipation, below)
-  bound_ = model_.scenario.material.mu * state_.pressure;
+  model_.friction->bound(state_, bound_);
   check_edge_contact(model_.scenario, edge_load_share(state_.pressure),
                      "step " + std::to_string(rec.step));
   rec.normal_iterations = r.iterations;
   rec.normal_residual = r.residual;
+  return true;
+}
+
+// A friction law that evolves moves the bound between steps (never within one: the increment
+// stays convex). Returns whether it changed; the step's bound then counts as fixed, so the
+// dissipation takes tau . s (no trapezoid: nothing moved within the step).
+bool Stepper::friction_step() {
+  Field g;
+  model_.friction->bound(state_, g);
+  if ((g == bound_).all()) return false;
+  bound_.swap(g);
   return true;
 }
 
@@ -138,7 +150,8 @@ bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
 // constant normal load, with the one-component analogy operator.
 bool Stepper::shortcut_applies(std::size_t k) const {
   const Model& m = model_;
-  return m.scenario.solver.shortcut && m.tangential_operator->components() == 1 &&
+  return m.scenario.solver.shortcut && !m.friction->evolves() &&
+         m.tangential_operator->components() == 1 &&
          m.scenario.solver.coupling == Coupling::analogy && m.path.monotone(0, k);
 }
 

@@ -141,6 +141,17 @@ void write_wear(IniWriter& w, const WearSpec& s) {
   w.put("indenter_share", s.indenter_share);
 }
 
+void write_friction(IniWriter& w, const FrictionSpec& f) {
+  static const char* laws[] = {"constant", "static_kinetic", "evolving"};
+  w.section("friction");
+  w.put("law", std::string(laws[static_cast<int>(f.law)]));
+  w.put("mu_kinetic", f.mu_kinetic > 0 ? std::optional<double>(f.mu_kinetic) : std::nullopt);
+  w.put("mu_final", f.mu_final > 0 ? std::optional<double>(f.mu_final) : std::nullopt);
+  w.put("evolution",
+        std::string(f.variable == FrictionVariable::dissipation ? "dissipation" : "slip_path"));
+  w.put("scale", f.scale > 0 ? std::optional<double>(f.scale) : std::nullopt);
+}
+
 }  // namespace
 
 std::string resolved_text(const Scenario& s) {
@@ -154,6 +165,7 @@ std::string resolved_text(const Scenario& s) {
   write_solver(w, s.solver);
   write_output(w, s.output);
   write_wear(w, s.wear);
+  write_friction(w, s.friction);
   return w.str();
 }
 

@@ -39,6 +39,7 @@ Scenario parse_scenario(const std::string& text, const std::string& name,
   read_solver(r, s.solver);
   read_output(r, s.output);
   read_wear(r, s.wear);
+  read_friction(r, s.load, s.material.mu, s.friction);
   s.resolved_text = resolved_text(s);
   return s;
 }

@@ -9,6 +9,7 @@
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/contact/stiffness.hpp"
 #include "fretbem/contact/tangential_solver.hpp"
+#include "fretbem/friction/law.hpp"
 #include "fretbem/wear/law.hpp"
 
 namespace fretbem {
@@ -24,6 +25,7 @@ struct Model {
   std::unique_ptr<TangentialSolver> tangential;
   std::unique_ptr<StiffnessSolver> stiffness;  ///< null when solver.stiffness = false
   std::unique_ptr<WearModel> wear;             ///< null when wear.law = none
+  std::unique_ptr<FrictionLaw> friction;       ///< the Coulomb bound of every node
 };
 
 /// Builds the surface and operators. The tangential operator is one-component (no y-solve)

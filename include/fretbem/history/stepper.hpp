@@ -57,6 +57,7 @@ class Stepper {
 
  private:
   bool normal_step(const LoadStep& ls, StepRecord& rec);
+  bool friction_step();
   bool tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec);
   bool shortcut_applies(std::size_t k) const;
   void shortcut_step(const LoadStep& ls, StepRecord& rec);
