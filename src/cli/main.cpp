@@ -160,11 +160,11 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
                 stepper.memory().next_step, stepper.steps(), dir.string().c_str());
     return 0;
   }
-  for (const auto& w : resolution.warnings()) std::fprintf(stderr, "fretbem: %s\n", w.c_str());
-  if (!resolution.summary().empty()) std::printf("fretbem: %s\n", resolution.summary().c_str());
   const PathType path = model.scenario.load.path;
   print_summary(stepper.steps(), path == PathType::sine || path == PathType::table, csv.path(),
                 dir / "cycles.csv", h5.path());
+  if (!resolution.summary().empty()) std::printf("  %s\n", resolution.summary().c_str());
+  for (const auto& w : resolution.warnings()) std::fprintf(stderr, "fretbem: %s\n", w.c_str());
   return 0;
 }
 
