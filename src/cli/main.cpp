@@ -15,9 +15,11 @@
 #include "fretbem/core/format.hpp"
 #include "fretbem/history/check_report.hpp"
 #include "fretbem/history/model.hpp"
+#include "fretbem/history/resolution.hpp"
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/resume_check.hpp"
+#include "fretbem/io/resolution_report.hpp"
 #include "fretbem/io/run_output.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/study/ensemble.hpp"
@@ -164,7 +166,11 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
       cycles.on_step(r, stepper.state(), model);
   Checkpointer checkpoint(dir, stepper, model.scenario.output.checkpoint_every);
   ProgressLine progress(stepper.steps());
-  std::vector<Observer*> obs{&csv, &h5, &cycles, &checkpoint};
+  ResolutionReport resolution;
+  if (resume_rows > 0)
+    for (const auto& r : read_timeseries(dir, std::size_t(resume_rows)))
+      resolution.on_step(r, stepper.state(), model);
+  std::vector<Observer*> obs{&csv, &h5, &cycles, &checkpoint, &resolution};
   if (!quiet) obs.push_back(&progress);
   const std::size_t budget = a.stop_after > 0 ? std::size_t(a.stop_after) : SIZE_MAX;
   stepper.run(obs, budget);
@@ -178,6 +184,8 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
   const PathType path = model.scenario.load.path;
   print_summary(stepper.steps(), path == PathType::sine || path == PathType::table, csv.path(),
                 dir / "cycles.csv", h5.path());
+  if (!resolution.summary().empty()) std::printf("  %s\n", resolution.summary().c_str());
+  for (const auto& w : resolution.warnings()) std::fprintf(stderr, "fretbem: %s\n", w.c_str());
   return 0;
 }
 
@@ -238,6 +246,9 @@ int cmd_check(const Args& a) {
     std::printf("%s: ok (%d x %d grid, wear run of %s cycles)\n", a.scenario.c_str(), sc.grid.nx,
                 sc.grid.ny, format_number(sc.wear.cycles).c_str());
   std::fputs(check_report(*model).c_str(), stdout);
+  // Resolution and domain predicted from Hertz for spheres (issues 17 §3, 18).
+  if (const auto p = predict_sphere(sc))
+    for (const auto& line : describe(*p, sc)) std::printf("  %s\n", line.c_str());
   return 0;
 }
 

@@ -78,6 +78,7 @@ std::unique_ptr<Model> prepare_model(const Scenario& sc) {
   m->surface = m->surface0;
   check_before_solve(sc, m->path, m->surface0);
   m->wear = make_wear_model(sc.wear);
+  m->friction = make_friction_law(sc.friction, sc.material.mu);
   return m;
 }
 

@@ -35,12 +35,14 @@ Scenario parse_scenario(const std::string& text, const std::string& name,
   s.name = fs::path(name).stem().string();
   read_material(r, s.material);
   read_grid(r, s.grid);
+  if (r.has("grid.allow_edge_contact")) s.allow_edge_contact = r.boolean("grid.allow_edge_contact");
   read_surface(r, base_dir, s.surface);
   read_load(r, base_dir, s.load);
   read_solver(r, s.solver);
   read_output(r, s.output);
   read_wear(r, s.wear);
   s.given_keys = r.keys();
+  read_friction(r, s.load, s.material.mu, s.friction);
   s.resolved_text = resolved_text(s);
   return s;
 }

@@ -323,4 +323,35 @@ void read_wear(const Reader& r, WearSpec& w) {
     r.fail_value("wear.cycles", "is not a whole number (wear.integrator = cycle)");
 }
 
+void read_friction(const Reader& r, const LoadSpec& l, double mu, FrictionSpec& f) {
+  if (r.has("friction.law"))
+    f.law = static_cast<FrictionLawKind>(
+        r.choice("friction.law", {"constant", "static_kinetic", "evolving"}));
+  if (r.has("friction.mu_kinetic")) f.mu_kinetic = r.positive("friction.mu_kinetic");
+  if (r.has("friction.mu_final")) f.mu_final = r.positive("friction.mu_final");
+  if (r.has("friction.evolution"))
+    f.variable =
+        static_cast<FrictionVariable>(r.choice("friction.evolution", {"dissipation", "slip_path"}));
+  if (r.has("friction.scale")) f.scale = r.positive("friction.scale");
+  double lowest = mu;
+  if (f.law == FrictionLawKind::static_kinetic) {
+    r.require("friction.mu_kinetic", " for friction.law = static_kinetic");
+    lowest = std::min(mu, f.mu_kinetic);
+  }
+  if (f.law == FrictionLawKind::evolving) {
+    r.require("friction.mu_final", " for friction.law = evolving");
+    r.require("friction.scale", " for friction.law = evolving");
+    lowest = std::min(mu, f.mu_final);
+  }
+  // Force-controlled amplitudes are fractions of material.mu F_z: a law that lowers mu below
+  // the amplitude would ask friction for more than it can hold.
+  const bool force_path =
+      l.control == Control::force && (l.path == PathType::ramp || l.path == PathType::sine);
+  if (force_path && l.amplitude * mu >= lowest)
+    r.fail_value("load.amplitude", "times material.mu reaches the lowest friction coefficient " +
+                                       format_number(lowest) +
+                                       " of friction.law: friction could not hold the load; "
+                                       "lower it or use load.control = displacement");
+}
+
 }  // namespace fretbem::scenario_detail

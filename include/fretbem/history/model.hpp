@@ -8,6 +8,7 @@
 #include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/contact/stiffness.hpp"
 #include "fretbem/contact/tangential_solver.hpp"
+#include "fretbem/friction/law.hpp"
 #include "fretbem/history/load_path.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/wear/law.hpp"
@@ -28,6 +29,7 @@ struct Model {
   /// Identity of this run's outputs (result.h5 /run_id and the checkpoint's run_id): set
   /// when a run starts, kept by a resume, so outputs of different runs are never mixed.
   std::string run_id;
+  std::unique_ptr<FrictionLaw> friction;       ///< the Coulomb bound of every node
 };
 
 /// Whether the step with this index and turning flag reports kx (solver.stiffness): every
