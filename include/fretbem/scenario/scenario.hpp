@@ -63,9 +63,11 @@ struct SolverSpec {
   int threads = 0;  ///< 0: all cores
   TangentialAlgorithm algorithm = TangentialAlgorithm::projected;
   StiffnessMode stiffness = StiffnessMode::every;  ///< which steps compute kx
-  /// FFTW_MEASURE plans, measured once per size and kept as wisdom (fft_wisdom.hpp); false:
+  /// true: FFTW_MEASURE plans, measured once per size and kept as wisdom (fft_wisdom.hpp); false:
   /// ESTIMATE plans (no measuring, no file).
-  bool fft_measure = true;
+  // estimate by default: MEASURE picks plans by timing, so two processes (a run and its
+  // resume, or runs racing to fill the same wisdom file) can differ in the last bits.
+  bool fft_measure = false;
   /// float32: single-precision convolutions (opt-in; the default tolerance is then
   /// kFloatFftMinTolerance and smaller ones are refused).
   FftPrecision fft_precision = FftPrecision::float64;
