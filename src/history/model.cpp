@@ -93,8 +93,8 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
   std::unique_ptr<TangentialSolver> partition =
       std::make_unique<PartitionSolver>(*m->tangential_operator, topt);
   if (sc.solver.algorithm == TangentialAlgorithm::partition) std::swap(projected, partition);
-  m->tangential = std::make_unique<FallbackTangentialSolver>(sc.grid, std::move(projected),
-                                                             std::move(partition));
+  m->tangential = std::make_unique<FallbackTangentialSolver>(
+      *m->tangential_operator, sc.solver.tolerance, std::move(projected), std::move(partition));
   // The stiffness solve's own floor of 1e-9 is raised to what float FFTs can reach: it is an
   // internal accuracy choice, not the user's tolerance (which is at least that floor).
   if (sc.solver.stiffness)
