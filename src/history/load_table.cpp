@@ -1,9 +1,8 @@
 // Path tables: CSV with a `time` column and any of Fz, delta, Fx, Fy, Ux, Uy (SI units).
-#include <cmath>
-#include <fstream>
+#include <algorithm>
 #include <map>
-#include <sstream>
 
+#include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/history/load_path.hpp"
 
@@ -11,56 +10,21 @@ namespace fretbem {
 
 namespace {
 
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  std::string cell;
-  while (std::getline(ss, cell, ',')) {
-    const auto b = cell.find_first_not_of(" \t\r"), e = cell.find_last_not_of(" \t\r");
-    out.push_back(b == std::string::npos ? "" : cell.substr(b, e - b + 1));
-  }
-  return out;
-}
-
-double parse_number(const std::string& s, const std::string& where) {
-  std::size_t used = 0;
-  double v = 0.0;
-  try {
-    v = std::stod(s, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != s.size() || s.empty() || !std::isfinite(v))
-    throw InputError(where + ": '" + s + "' is not a finite number");
-  return v;
-}
-
 using Columns = std::map<std::string, std::vector<double>>;
 
 Columns read_columns(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file.string() + ": cannot open path table");
-  std::string line;
-  if (!std::getline(in, line)) throw InputError(file.string() + ": empty path table");
-  const auto names = split_csv(line);
+  const csv::Table table = csv::read_table(file);
   static const std::vector<std::string> known{"time", "Fz", "delta", "Fx", "Fy", "Ux", "Uy"};
   Columns cols;
-  for (const auto& n : names) {
+  for (const auto& n : table.columns) {
     if (std::find(known.begin(), known.end(), n) == known.end())
       throw InputError(file.string() + ": unknown column '" + n +
                        "' (expected time, Fz, delta, Fx, Fy, Ux, Uy)");
     if (cols.count(n)) throw InputError(file.string() + ": column '" + n + "' appears twice");
     cols[n];
   }
-  for (int row = 2; std::getline(in, line); ++row) {
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    const auto cells = split_csv(line);
-    const std::string where = file.string() + ":" + std::to_string(row);
-    if (cells.size() != names.size())
-      throw InputError(where + ": expected " + std::to_string(names.size()) + " values");
-    for (std::size_t c = 0; c < names.size(); ++c)
-      cols[names[c]].push_back(parse_number(cells[c], where));
-  }
+  for (const auto& row : table.rows)
+    for (std::size_t c = 0; c < row.size(); ++c) cols[table.columns[c]].push_back(row[c]);
   return cols;
 }
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/hdf5.hpp"
 
 namespace fretbem {
 
@@ -15,22 +16,13 @@ namespace {
 
 constexpr const char* kFile = "checkpoint.h5";
 
-// Minimal RAII for the few HDF5 handles used here.
-struct H5 {
-  hid_t id;
-  herr_t (*close)(hid_t);
-  ~H5() {
-    if (id >= 0) close(id);
-  }
-};
-
 void write_array(hid_t file, const std::string& name, const double* data,
                  std::vector<hsize_t> dims) {
-  H5 space{H5Screate_simple(int(dims.size()), dims.data(), nullptr), H5Sclose};
-  H5 set{H5Dcreate2(file, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, H5P_DEFAULT,
-                    H5P_DEFAULT),
-         H5Dclose};
-  if (set.id < 0 || H5Dwrite(set.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
+  hdf5::Space space(H5Screate_simple(int(dims.size()), dims.data(), nullptr));
+  hdf5::Dataset set(H5Dcreate2(file, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT,
+                               H5P_DEFAULT, H5P_DEFAULT));
+  if (set.get() < 0 ||
+      H5Dwrite(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
     throw std::runtime_error("checkpoint: cannot write " + name);
 }
 
@@ -45,37 +37,36 @@ void write_vector(hid_t file, const std::string& name, const std::vector<double>
 // Text as a 1-D byte dataset: no string-type or character-set conversions to get wrong.
 void write_text(hid_t file, const std::string& name, const std::string& text) {
   const hsize_t n = text.size();
-  H5 space{H5Screate_simple(1, &n, nullptr), H5Sclose};
-  H5 set{
-      H5Dcreate2(file, name.c_str(), H5T_STD_U8LE, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-      H5Dclose};
-  if (set.id < 0 ||
-      (n && H5Dwrite(set.id, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()) < 0))
+  hdf5::Space space(H5Screate_simple(1, &n, nullptr));
+  hdf5::Dataset set(H5Dcreate2(file, name.c_str(), H5T_STD_U8LE, space.get(), H5P_DEFAULT,
+                               H5P_DEFAULT, H5P_DEFAULT));
+  if (set.get() < 0 ||
+      (n && H5Dwrite(set.get(), H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()) < 0))
     throw std::runtime_error("checkpoint: cannot write " + name);
 }
 
 std::string read_text(hid_t file, const std::string& name) {
-  H5 set{H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose};
-  if (set.id < 0) throw InputError("checkpoint: missing dataset " + name);
-  H5 space{H5Dget_space(set.id), H5Sclose};
-  std::string text(std::size_t(H5Sget_simple_extent_npoints(space.id)), '\0');
+  hdf5::Dataset set(H5Dopen2(file, name.c_str(), H5P_DEFAULT));
+  if (set.get() < 0) throw InputError("checkpoint: missing dataset " + name);
+  hdf5::Space space(H5Dget_space(set.get()));
+  std::string text(std::size_t(H5Sget_simple_extent_npoints(space.get())), '\0');
   if (!text.empty() &&
-      H5Dread(set.id, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()) < 0)
+      H5Dread(set.get(), H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, text.data()) < 0)
     throw InputError("checkpoint: cannot read " + name);
   return text;
 }
 
 std::vector<double> read_array(hid_t file, const std::string& name, std::vector<hsize_t>* dims) {
-  H5 set{H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose};
-  if (set.id < 0) throw InputError("checkpoint: missing dataset " + name);
-  H5 space{H5Dget_space(set.id), H5Sclose};
-  const int rank = H5Sget_simple_extent_ndims(space.id);
+  hdf5::Dataset set(H5Dopen2(file, name.c_str(), H5P_DEFAULT));
+  if (set.get() < 0) throw InputError("checkpoint: missing dataset " + name);
+  hdf5::Space space(H5Dget_space(set.get()));
+  const int rank = H5Sget_simple_extent_ndims(space.get());
   std::vector<hsize_t> d(std::max(rank, 0));
-  H5Sget_simple_extent_dims(space.id, d.data(), nullptr);
+  H5Sget_simple_extent_dims(space.get(), d.data(), nullptr);
   hsize_t n = 1;
   for (auto x : d) n *= x;
   std::vector<double> out(n);
-  if (n && H5Dread(set.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+  if (n && H5Dread(set.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
     throw InputError("checkpoint: cannot read " + name);
   if (dims) *dims = d;
   return out;
@@ -183,32 +174,32 @@ std::optional<WearCheckpoint> read_wear(hid_t f) {
 
 void save_checkpoint(const fs::path& dir, const Model& model, const Stepper& stepper,
                      const WearCheckpoint* wear) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  hdf5::silence();
   const fs::path tmp = dir / (std::string(kFile) + ".tmp");
   {
-    H5 f{H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose};
-    if (f.id < 0) throw InputError(tmp.string() + ": cannot create checkpoint");
-    write_text(f.id, "scenario", model.scenario.resolved_text);
-    write_state(f.id, stepper.state());
-    write_memory(f.id, stepper.memory());
-    write_field(f.id, "surface", model.surface);
-    if (wear) write_wear(f.id, *wear);
+    hdf5::File f(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
+    if (f.get() < 0) throw InputError(tmp.string() + ": cannot create checkpoint");
+    write_text(f.get(), "scenario", model.scenario.resolved_text);
+    write_state(f.get(), stepper.state());
+    write_memory(f.get(), stepper.memory());
+    write_field(f.get(), "surface", model.surface);
+    if (wear) write_wear(f.get(), *wear);
   }
   fs::rename(tmp, dir / kFile);
 }
 
 Checkpoint load_checkpoint(const fs::path& dir) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  hdf5::silence();
   const fs::path path = dir / kFile;
   if (!fs::exists(path)) throw InputError(path.string() + ": no checkpoint to resume from");
-  H5 f{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
-  if (f.id < 0) throw InputError(path.string() + ": cannot open checkpoint");
+  hdf5::File f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
+  if (f.get() < 0) throw InputError(path.string() + ": cannot open checkpoint");
   Checkpoint c;
-  c.scenario_text = read_text(f.id, "scenario");
-  c.state = read_state(f.id);
-  c.memory = read_memory(f.id);
-  c.surface = read_field(f.id, "surface");
-  c.wear = read_wear(f.id);
+  c.scenario_text = read_text(f.get(), "scenario");
+  c.state = read_state(f.get());
+  c.memory = read_memory(f.get());
+  c.surface = read_field(f.get(), "surface");
+  c.wear = read_wear(f.get());
   return c;
 }
 

@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/hdf5.hpp"
 
 namespace fretbem::io {
 
@@ -15,55 +16,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// Owns one HDF5 identifier and closes it with the matching H5?close.
-template <herr_t (*Close)(hid_t)>
-class Handle {
- public:
-  Handle() = default;
-  explicit Handle(hid_t id) : id_(id) {}
-  ~Handle() { reset(); }
-  Handle(Handle&& o) noexcept : id_(o.id_) { o.id_ = -1; }
-  Handle& operator=(Handle&& o) noexcept {
-    if (this != &o) reset(), id_ = o.id_, o.id_ = -1;
-    return *this;
-  }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  void reset() {
-    if (id_ >= 0) Close(id_);
-    id_ = -1;
-  }
-  hid_t get() const { return id_; }
-  bool valid() const { return id_ >= 0; }
-
- private:
-  hid_t id_ = -1;
-};
-
-using FileH = Handle<H5Fclose>;
-using GroupH = Handle<H5Gclose>;
-using DatasetH = Handle<H5Dclose>;
-using SpaceH = Handle<H5Sclose>;
-using TypeH = Handle<H5Tclose>;
-using PlistH = Handle<H5Pclose>;
-using AttrH = Handle<H5Aclose>;
-
-herr_t innermost_error(unsigned n, const H5E_error2_t* err, void* data) {
-  if (n == 0 && err && err->desc) *static_cast<std::string*>(data) = err->desc;
-  return 0;
-}
-
-/// The most specific message on the HDF5 error stack (its printing is switched off).
-std::string hdf5_message() {
-  std::string msg;
-  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, innermost_error, &msg);
-  H5Eclear2(H5E_DEFAULT);
-  return msg.empty() ? "unknown HDF5 error" : msg;
-}
-
-void silence_hdf5() {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-}
+using FileH = hdf5::File;
+using GroupH = hdf5::Group;
+using DatasetH = hdf5::Dataset;
+using SpaceH = hdf5::Space;
+using TypeH = hdf5::Type;
+using PlistH = hdf5::Plist;
+using AttrH = hdf5::Attribute;
 
 TypeH utf8_string_type() {
   TypeH t(H5Tcopy(H5T_C_S1));
@@ -85,7 +44,7 @@ struct Hdf5Writer::Impl {
   std::size_t rows = 0;
 
   [[noreturn]] void fail(const std::string& what) const {
-    throw std::runtime_error(path.string() + ": cannot " + what + ": " + hdf5_message());
+    throw std::runtime_error(path.string() + ": cannot " + what + ": " + hdf5::last_error());
   }
   /// Identifiers and status codes alike are negative on failure.
   hid_t check(hid_t id, const std::string& what) const {
@@ -194,22 +153,23 @@ Hdf5Writer::Hdf5Writer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
 Hdf5Writer::Hdf5Writer(const fs::path& dir, const std::string& name)
     : impl_(std::make_unique<Impl>()) {
-  silence_hdf5();
+  hdf5::silence();
   impl_->path = dir / name;
   std::error_code ec;
   if (!dir.empty()) fs::create_directories(dir, ec);
   if (ec) throw InputError(dir.string() + ": cannot create the output folder: " + ec.message());
   const hid_t f = H5Fcreate(impl_->path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (f < 0) throw InputError(impl_->path.string() + ": cannot create: " + hdf5_message());
+  if (f < 0) throw InputError(impl_->path.string() + ": cannot create: " + hdf5::last_error());
   impl_->file = FileH(f);
 }
 
 Hdf5Writer Hdf5Writer::open_existing(const fs::path& dir) {
-  silence_hdf5();
+  hdf5::silence();
   auto impl = std::make_unique<Impl>();
   impl->path = dir / file_name;
   const hid_t f = H5Fopen(impl->path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  if (f < 0) throw InputError(impl->path.string() + ": cannot open to append: " + hdf5_message());
+  if (f < 0)
+    throw InputError(impl->path.string() + ": cannot open to append: " + hdf5::last_error());
   impl->file = FileH(f);
   if (impl->exists("/timeseries")) impl->open_timeseries();
   return Hdf5Writer(std::move(impl));
@@ -261,7 +221,7 @@ void Hdf5Writer::write_step_fields(std::int64_t step, double time,
 
 void Hdf5Writer::start_timeseries(const std::vector<std::string>& columns) {
   if (columns.empty()) throw std::invalid_argument("start_timeseries: no columns");
-  impl_->timeseries.reset();
+  impl_->timeseries.close();
   impl_->remove_if_exists("/timeseries");
   impl_->columns = columns;
   impl_->rows = 0;

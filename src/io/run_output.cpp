@@ -144,23 +144,16 @@ void CycleSummary::on_finish(const InterfaceState&, const Model&) {
   cycle_ = -1;
 }
 
-ProgressLine::ProgressLine(std::size_t total)
-    : total_(total), start_(std::chrono::steady_clock::now()), last_(start_) {}
+ProgressLine::ProgressLine(std::size_t total, bool enabled) : total_(total), reporter_(enabled) {}
 
 void ProgressLine::on_step(const StepRecord& rec, const InterfaceState&, const Model&) {
-  using namespace std::chrono;
-  const auto now = steady_clock::now();
-  const double elapsed = duration<double>(now - start_).count();
-  if (elapsed < 1.0 || duration<double>(now - last_).count() < 0.25) return;
-  last_ = now;
-  const double done = double(rec.step + 1) / double(total_);
-  std::fprintf(stderr, "\rstep %d/%zu  cycle %d  elapsed %.1f s  ETA %.1f s   ", rec.step + 1,
-               total_, rec.cycle, elapsed, elapsed * (1.0 - done) / done);
-  shown_ = true;
+  const std::string where = "step " + std::to_string(rec.step + 1) + "/" + std::to_string(total_) +
+                            "  cycle " + std::to_string(rec.cycle);
+  reporter_.update(where, double(rec.step + 1) / double(total_));
 }
 
 void ProgressLine::on_finish(const InterfaceState&, const Model&) {
-  if (shown_) std::fprintf(stderr, "\n");
+  reporter_.finish();
 }
 
 }  // namespace fretbem

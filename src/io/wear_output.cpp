@@ -3,8 +3,8 @@
 #include <chrono>
 #include <cstdio>
 
-#include "fretbem/io/checkpoint.hpp"
 #include "fretbem/core/errors.hpp"
+#include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/csv_writer.hpp"
 #include "fretbem/io/run_output.hpp"
 #include "fretbem/wear/integrator.hpp"
@@ -42,7 +42,7 @@ class WearFiles final : public WearLog {
         csv_(open_csv(model.scenario.output.dir, "cycles", wear_columns(),
                       resume ? resume->cycles_rows : -1)),
         h5_(h5),
-        quiet_(quiet) {
+        progress_(!quiet) {
     if (resume) rows_ = resume->cycles_rows, snapshots_ = resume->snapshots;
   }
   void cycle(const WearCycle& c) override {
@@ -67,28 +67,24 @@ class WearFiles final : public WearLog {
     c.cycles_rows = rows_, c.snapshots = snapshots_;
     save_checkpoint(model_.scenario.output.dir, model_, stepper_, &c);
   }
-  void done() {
-    if (shown_) std::fprintf(stderr, "\n");
-  }
+  void done() { progress_.finish(); }
   const std::filesystem::path& path() const { return csv_.path(); }
 
  private:
   void progress(double N, double simulated) {
-    using namespace std::chrono;
-    const auto now = steady_clock::now();
-    if (quiet_ || duration<double>(now - last_).count() < 0.5) return;
-    last_ = now, shown_ = true;
-    std::fprintf(stderr, "\rwear: N %.6g / %.6g  simulated cycles %g   ", N,
-                 model_.scenario.wear.cycles, simulated);
+    const double total = model_.scenario.wear.cycles;
+    char where[128];
+    std::snprintf(where, sizeof where, "wear: N %.6g / %.6g  simulated cycles %g", N, total,
+                  simulated);
+    progress_.update(where, N / total);
   }
   const Model& model_;
   const Stepper& stepper_;
   io::CsvWriter csv_;
   ResultFile& h5_;
-  bool quiet_, shown_ = false;
+  ProgressReporter progress_;
   long rows_ = 0;
   std::int64_t snapshots_ = 0;
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "keys.hpp"
@@ -124,22 +125,17 @@ void read_surface(const Reader& r, const fs::path& base, SurfaceSpec& s) {
   if (is_file) r.require("surface.file", " for surface.type = file");
 }
 
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  for (std::string cell; std::getline(ss, cell, ',');) out.push_back(trim(cell));
-  return out;
-}
-
 // The table's header decides what it can drive; catch a mismatch here rather than mid-run.
 void check_table(const Reader& r, const LoadSpec& l) {
-  std::ifstream in(l.table);
-  std::string line;
-  while (std::getline(in, line) && (trim(line).empty() || trim(line)[0] == '#')) {
+  std::vector<std::string> header;
+  try {
+    header = csv::read_header(l.table);
+  } catch (const InputError& e) {
+    r.fail_value("load.table", std::string("cannot be read: ") + e.what());
   }
   const std::vector<std::string> known = {"time", "Fz", "delta", "Fx", "Fy", "Ux", "Uy"};
   std::set<std::string> cols;
-  for (const auto& c : split_csv_line(line)) {
+  for (const auto& c : header) {
     if (std::find(known.begin(), known.end(), c) == known.end())
       r.fail_value("load.table", "has an unknown column '" + printable(c) + "'" +
                                      suggestion(c, known) +
@@ -258,7 +254,7 @@ std::vector<std::string> read_fields(const Reader& r) {
   std::vector<std::string> out;
   const std::string list = trim(r.raw("output.fields"));
   if (list.empty() || list == "none") return out;
-  for (const auto& f : split_csv_line(list)) {
+  for (const auto& f : csv::split_line(list)) {
     if (std::find(kFieldNames.begin(), kFieldNames.end(), f) == kFieldNames.end())
       r.fail_value("output.fields", "names an unknown field '" + printable(f) + "'" +
                                         suggestion(f, kFieldNames) +

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/scenario/scenario.hpp"
@@ -44,8 +45,7 @@ struct Member {
 
 std::vector<double> parse_hurst_list(const std::string& list) {
   std::vector<double> out;
-  std::stringstream ss(list);
-  for (std::string tok; std::getline(ss, tok, ',');) {
+  for (const std::string& tok : csv::split_line(list)) {
     double v = 0;
     const auto r = std::from_chars(tok.data(), tok.data() + tok.size(), v);
     if (tok.empty() || r.ec != std::errc() || r.ptr != tok.data() + tok.size() ||
@@ -141,41 +141,30 @@ void run_members(const EnsembleOptions& o, std::vector<Member>& members, int job
   }
 }
 
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  for (std::string t; std::getline(ss, t, ',');) out.push_back(t);
-  return out;
-}
-
 }  // namespace
 
-MemberCurve read_member_curve(const fs::path& csv, double mu) {
-  std::ifstream in(csv);
-  std::string line;
-  if (!in || !std::getline(in, line)) throw InputError(csv.string() + ": cannot read");
-  const auto head = split(line);
+MemberCurve read_member_curve(const fs::path& csv_file, double mu) {
+  const auto table = csv::read_table(csv_file, {.allow_nan = true});
   auto col = [&](const std::string& name) {
-    for (std::size_t i = 0; i < head.size(); ++i)
-      if (head[i] == name) return i;
-    throw InputError(csv.string() + ": no column '" + name + "'");
+    const long i = table.find(name);
+    if (i < 0) throw InputError(csv_file.string() + ": no column '" + name + "'");
+    return static_cast<std::size_t>(i);
   };
   const std::size_t cFz = col("Fz"), cFx = col("Fx"), cA = col("contact_area"),
                     cS = col("stick_area"), cFs = col("Fx_stick"), cK = col("kx");
   MemberCurve c;
   double A0 = 0, k0 = 0;
-  for (int row = 0; std::getline(in, line); ++row) {
-    const auto v = split(line);
-    auto num = [&](std::size_t i) { return i < v.size() ? std::stod(v[i]) : kNaN; };
-    const double muFz = mu * num(cFz), f = num(cFx) / muFz;
-    if (row == 0) A0 = num(cA), k0 = num(cK);
+  for (std::size_t row = 0; row < table.rows.size(); ++row) {
+    const auto& v = table.rows[row];
+    const double muFz = mu * v[cFz], f = v[cFx] / muFz;
+    if (row == 0) A0 = v[cA], k0 = v[cK];
     if (!c.f.empty() && !(f > c.f.back())) continue;  // only where F_x still rises
     c.f.push_back(f);
-    c.stick.push_back(num(cS) / A0);
-    c.kx.push_back(num(cK) / k0);
-    c.fstick.push_back(num(cFs) / muFz);
+    c.stick.push_back(v[cS] / A0);
+    c.kx.push_back(v[cK] / k0);
+    c.fstick.push_back(v[cFs] / muFz);
   }
-  if (c.f.empty()) throw InputError(csv.string() + ": no rows");
+  if (c.f.empty()) throw InputError(csv_file.string() + ": no rows");
   return c;
 }
 
@@ -210,8 +199,8 @@ void write_members(const fs::path& file, const std::vector<Member>& members) {
   std::ofstream out(file);
   out << "hurst,seed,dir,exit_code,wall_seconds\n";
   for (const auto& m : members)
-    out << format_number(m.hurst) << ',' << m.seed << ',' << m.dir.generic_string() << ',' << m.exit_code
-        << ',' << m.seconds << '\n';
+    out << format_number(m.hurst) << ',' << m.seed << ',' << m.dir.generic_string() << ','
+        << m.exit_code << ',' << m.seconds << '\n';
 }
 
 std::string fmt(double v) {
@@ -262,8 +251,8 @@ void write_aggregate(const EnsembleOptions& o, const std::vector<Member>& member
         Fs.push_back(interpolate(c.f, c.fstick, fc));
       }
       const MeanCi a = mean_ci95(A), k = mean_ci95(K), s = mean_ci95(Fs);
-      out << format_number(H) << ',' << b << ',' << fmt(lo) << ',' << fmt(hi) << ',' << fmt(fc) << ','
-          << a.n << ',' << failed << ',' << fmt(a.mean) << ',' << fmt(a.half_width) << ','
+      out << format_number(H) << ',' << b << ',' << fmt(lo) << ',' << fmt(hi) << ',' << fmt(fc)
+          << ',' << a.n << ',' << failed << ',' << fmt(a.mean) << ',' << fmt(a.half_width) << ','
           << fmt(k.mean) << ',' << fmt(k.half_width) << ',' << fmt(s.mean) << ','
           << fmt(s.half_width) << '\n';
     }

@@ -1,6 +1,6 @@
 #include "fretbem/study/greenwood_williamson.hpp"
 
-#include <array>
+#include <boost/math/quadrature/gauss.hpp>
 #include <boost/math/special_functions/gamma.hpp>
 #include <cmath>
 #include <numbers>
@@ -61,37 +61,22 @@ double d_min(double ux, double mu, double E_star, double G_star) {
 
 namespace {
 
-// 16-point Gauss–Legendre rule on [-1, 1] by Newton iteration on P_16 (exact to round-off).
-struct GaussLegendre {
-  static constexpr int n = 16;
-  std::array<double, n> x{}, w{};
-  GaussLegendre() {
-    for (int i = 0; i < n; ++i) {
-      double z = std::cos(kPi * (i + 0.75) / (n + 0.5)), dp = 0.0;
-      for (int it = 0; it < 100; ++it) {
-        double p0 = 1.0, p1 = z;  // P_0, P_1, then the three-term recurrence up to P_n
-        for (int k = 2; k <= n; ++k) {
-          const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-          p0 = p1, p1 = p2;
-        }
-        dp = n * (z * p1 - p0) / (z * z - 1.0);
-        const double dz = p1 / dp;
-        z -= dz;
-        if (std::abs(dz) < 1e-16) break;
-      }
-      x[i] = z, w[i] = 2.0 / ((1.0 - z * z) * dp * dp);
-    }
-  }
-};
-
-// Composite Gauss–Legendre of f on [a, b] with `panels` equal panels; f adds into State.
+// Composite 16-point Gauss–Legendre of f on [a, b] with `panels` equal panels; f adds into
+// State. Boost tabulates the rule's non-negative abscissae and their weights (the rule is
+// symmetric about 0; an abscissa at 0 counts once).
 template <class F>
 void integrate(double a, double b, int panels, F&& f) {
-  static const GaussLegendre gl;
-  const double hp = (b - a) / panels;
-  for (int k = 0; k < panels; ++k)
-    for (int i = 0; i < GaussLegendre::n; ++i)
-      f(a + hp * (k + 0.5 * (gl.x[i] + 1.0)), 0.5 * hp * gl.w[i]);
+  using Rule = boost::math::quadrature::gauss<double, 16>;
+  const auto& x = Rule::abscissa();
+  const auto& w = Rule::weights();
+  const double hp = (b - a) / panels, half = 0.5 * hp;
+  for (int k = 0; k < panels; ++k) {
+    const double mid = a + hp * (k + 0.5);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      f(mid - half * x[i], half * w[i]);
+      if (x[i] != 0.0) f(mid + half * x[i], half * w[i]);
+    }
+  }
 }
 
 // Per-asperity laws at depth d (Hertz, eq. 6; Mindlin, eqs. 7–10) with weight wt = Phi dz.

@@ -5,9 +5,10 @@
 #include <chrono>
 #include <memory>
 
+#include "fretbem/core/progress.hpp"
+#include "fretbem/history/stepper.hpp"
 #include "fretbem/io/csv_writer.hpp"
 #include "fretbem/io/hdf5_writer.hpp"
-#include "fretbem/history/stepper.hpp"
 
 namespace fretbem {
 
@@ -61,17 +62,16 @@ class CycleSummary final : public Observer {
   int steps_ = 0;
 };
 
-/// One progress line on stderr (step, cycle, ETA), shown once a run has taken a second.
+/// The progress report of a run (step, cycle, ETA) through ProgressReporter.
 class ProgressLine final : public Observer {
  public:
-  explicit ProgressLine(std::size_t total_steps);
+  explicit ProgressLine(std::size_t total_steps, bool enabled = true);
   void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) override;
   void on_finish(const InterfaceState& state, const Model& model) override;
 
  private:
   std::size_t total_;
-  std::chrono::steady_clock::time_point start_, last_;
-  bool shown_ = false;
+  ProgressReporter reporter_;
 };
 
 /// DIR/NAME.csv with these columns; resume_rows >= 0: keep the header and the first
