@@ -28,6 +28,7 @@
 
 #include "bench_util.hpp"
 #include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/core/csv_reader.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/scenario/scenario.hpp"
 
@@ -183,19 +184,15 @@ Outcome run_case(const Case& c, int i, const Options& o) {
   std::ifstream err(dir / "stderr.txt");
   std::string line;
   while (std::getline(err, line)) r.fallback |= line.find("fretbem: note:") != std::string::npos;
-  std::ifstream ts(dir / "run" / "timeseries.csv");
-  std::getline(ts, line);
-  std::vector<std::string> cols;
-  for (std::stringstream ss(line); std::getline(ss, line, ',');) cols.push_back(line);
-  const auto col = std::find(cols.begin(), cols.end(), "tangential_iterations") - cols.begin();
-  while (std::getline(ts, line)) {
-    std::stringstream ss(line);
-    std::string cell;
-    for (long k = 0; std::getline(ss, cell, ','); ++k)
-      if (k == col) {
-        const long it = std::lround(std::strtod(cell.c_str(), nullptr));
-        r.iterations += it, r.max_iterations = std::max(r.max_iterations, it);
-      }
+  const fs::path ts = dir / "run" / "timeseries.csv";
+  if (!fs::exists(ts)) return r;
+  csv::ReadOptions opt;
+  opt.allow_nan = true;  // kx is nan with the stiffness solve off
+  const csv::Table t = csv::read_table(ts, opt);
+  const long col = t.find("tangential_iterations");
+  for (const auto& row : t.rows) {
+    const long it = col >= 0 ? std::lround(row[std::size_t(col)]) : 0;
+    r.iterations += it, r.max_iterations = std::max(r.max_iterations, it);
   }
   return r;
 }
