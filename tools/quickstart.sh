@@ -10,8 +10,8 @@ fretbem_install_dependencies --with-optional
 fretbem_build fretbem
 
 out=out/hertz
-fretbem_log "running: $FRETBEM_BUILD_DIR/fretbem run scenarios/hertz.ini --out $out"
-"$FRETBEM_BUILD_DIR/fretbem" run scenarios/hertz.ini --out "$out"
+fretbem_log "running: $FRETBEM_BUILD_DIR/fretbem run scenarios/hertz.ini --out $out --overwrite"
+"$FRETBEM_BUILD_DIR/fretbem" run scenarios/hertz.ini --out "$out" --overwrite
 
 cat <<MSG
 
