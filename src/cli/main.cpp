@@ -18,8 +18,9 @@
 #include "fretbem/history/resolution.hpp"
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/io/checkpoint.hpp"
-#include "fretbem/io/resume_check.hpp"
+#include "fretbem/io/failed_solve.hpp"
 #include "fretbem/io/resolution_report.hpp"
+#include "fretbem/io/resume_check.hpp"
 #include "fretbem/io/run_output.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/study/ensemble.hpp"
@@ -319,6 +320,16 @@ int main(int argc, char** argv) {
   } catch (const InputError& e) {
     std::fprintf(stderr, "fretbem: error: %s\n", e.what());
     return 2;
+  } catch (const IncrementFailure& e) {
+    // The inputs of the failed solve, so that it can be reproduced alone (issue 12).
+    std::string where;
+    try {
+      where = "; its inputs are in " + write_failed_solve(e.dir, e.inputs).string();
+    } catch (const std::exception& w) {
+      where = "; its inputs could not be saved: " + std::string(w.what());
+    }
+    std::fprintf(stderr, "\nfretbem: solver error: %s%s\n", e.what(), where.c_str());
+    return 3;
   } catch (const SolverError& e) {
     std::fprintf(stderr, "\nfretbem: solver error: %s\n", e.what());
     return 3;

@@ -2,12 +2,22 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <sstream>
 #include <vector>
 
 #include "fretbem/core/errors.hpp"
 
 namespace fretbem {
+
+namespace {
+// Fraction of the contact set whose leaving in one iteration restarts conjugacy.
+constexpr double kBulkExit = 0.01;
+// Cold start (once) when the residual exceeds the best so far by this factor, or has not
+// improved on it for this many iterations.
+constexpr double kGrowth = 100.0;
+constexpr int kStagnation = 200;
+}  // namespace
 
 NormalSolver::NormalSolver(HalfSpace& half_space, NormalOptions options)
     : hs_(half_space), opt_(options) {
@@ -57,19 +67,38 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
     res.converged = true;
     return res;
   }
+  // Without a warm start the first guess is the cold one already.
+  const bool warm = p.rows() == grid.nx && p.cols() == grid.ny && (p > 0).any();
   initial_guess(force_control, target, p);
   hs_.normal(p, u_);
   const double area = grid.cell_area();
   double g_old = 1.0, delta = force_control ? 0.0 : target;
-  bool restart = true, verified = false, cold = false;
+  bool restart = true, verified = false, cold = !warm;
   std::vector<std::int64_t> idx;
   std::vector<double> val;
   t_ = grid.zeros();
+  // Stagnation and growth watch: the best residual so far and the iteration that reached it.
+  double best = std::numeric_limits<double>::infinity();
+  int best_it = 0;
+  auto cold_start = [&] {
+    cold = true, restart = true;
+    best = std::numeric_limits<double>::infinity();
+    p = Field();
+    initial_guess(force_control, target, p);
+    hs_.normal(p, u_);
+  };
   for (int it = 0; it <= opt_.max_iterations; ++it) {
     // Gap on the current contact set S = {p > 0}; under force control delta is the multiplier
     // that makes the mean gap on S vanish.
     res.residual = gap_residual(force_control, target, p, &delta);
     res.iterations = it;
+    if (res.residual < best) best = res.residual, best_it = it;
+    // A warm start far from the solution (thousands of nodes to leave a worn annulus, issue
+    // 12) can make the iteration climb or stall; the cold start does not depend on it.
+    if (!cold && (res.residual > kGrowth * best || it - best_it > kStagnation)) {
+      cold_start();
+      continue;
+    }
     if (res.residual <= opt_.tolerance) {
       if (verified) {
         res.converged = true;
@@ -95,10 +124,7 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
       // contact set was wrong in a way the iteration cannot leave (e.g. one node, where the
       // mean-free gap on S vanishes): restart once from the cold guess.
       if (cold || res.residual < 1e3 * opt_.tolerance) break;
-      cold = true, restart = true;
-      p = Field();
-      initial_guess(force_control, target, p);
-      hs_.normal(p, u_);
+      cold_start();
       continue;
     }
     const double tau = (S * g_ * t_).sum() / denom;
@@ -108,16 +134,22 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
     u_ -= tau * r_;
     idx.clear(), val.clear();
     restart = false;
+    std::int64_t left = 0;
     for (Eigen::Index k = 0; k < p.size(); ++k) {
       double e = 0.0;
       if (S(k) > 0 && p(k) < 0.0) {
         e = -p(k);
+        ++left;
       } else if (S(k) == 0 && g_(k) < 0.0 && tau > 0.0) {
         e = -tau * g_(k);
         restart = true;
       }
       if (e != 0.0) p(k) += e, idx.push_back(k), val.push_back(e);
     }
+    // Nodes leaving contact in bulk change S, and with it the problem CG was conjugating on
+    // (PK restart only on re-entry; measured, issue 12: ~3700 annulus nodes left while the
+    // residual climbed to 0.38 and stalled).
+    if (double(left) > kBulkExit * S.sum()) restart = true;
     // Few changed nodes: direct summation (~n^2 per node) beats a convolution (~4 n^2 log n)
     // below HalfSpace::sparse_limit(), measured in tools/bench/convolution.
     if (idx.size() <= hs_.sparse_limit())

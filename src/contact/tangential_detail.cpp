@@ -40,6 +40,14 @@ Eigen::VectorXd shift_estimate(const TangentialIncrement& inc, const VecField& u
   return dU;
 }
 
+// Exactly mu F_z (issue 14, item 6) is full sliding too: the force residual is relative to
+// sum g h^2, so a target within the tolerance of it cannot be told apart from it, and the QP's
+// stick set would have to vanish exactly (measured: 5000 iterations, residual 0.15).
+bool past_full_sliding(const TangentialIncrement& inc, const Grid& grid, double tolerance) {
+  if (inc.control != TangentialControl::force) return false;
+  return !(inc.target.norm() < bound_force(*inc.bound, grid) * (1.0 - tolerance));
+}
+
 bool project_all(const Field& g, VecField& tau) {
   const Field mag = magnitude(tau);
   bool moved = false;
@@ -184,9 +192,9 @@ Workspace::Workspace(TangentialOperator& op_, const TangentialIncrement& inc_,
     : op(op_), inc(inc_), opt(opt_), sets(*inc_.bound) {
   conv0 = op.half_space().convolutions();
   scale = cache.get(op, *inc.bound);
-  if (inc.control == TangentialControl::force) {
+  if (past_full_sliding(inc, op.grid(), opt.tolerance)) {
     const double fmax = bound_force(*inc.bound, op.grid());
-    if (!(inc.target.norm() < fmax)) {
+    {
       std::ostringstream msg;
       msg << "tangential force " << inc.target.norm() << " N is not below the full-sliding force "
           << "mu F_z = " << fmax << " N: force control cannot go past full sliding";
@@ -196,6 +204,7 @@ Workspace::Workspace(TangentialOperator& op_, const TangentialIncrement& inc_,
   gsum = inc.bound->sum();
   slip_step = op.zeros(), slip_image = op.zeros();
   val.resize(op.components());
+  back_val.resize(op.components());
 }
 
 void Workspace::start(VecField& tau, VecField& u) {
@@ -407,22 +416,32 @@ bool slip_node_step_impl(Workspace& w, VecField& tau, VecField& u) {
   const double theta = dw > 0.0 ? std::min(1.0, sd / dw) : 1.0;
   for (const Eigen::Index k : sets.contact)
     for (int c = 0; c < NC; ++c) u[c](k) += theta * dw_image[c](k);
+  // A damped turn (theta < 1) cuts the chord inside the disc; a node whose full step stayed
+  // on the bound and turned by less than a right angle is put back on it, so turning does not
+  // release it. A reversal (the full step ends in the opposite half-plane, in 1-D a flip from
+  // -g towards +g) is not a turn: its damped step re-enters the disc and the node sticks.
+  // The put-back changes tau, so its change enters u at once (never a traction change u does
+  // not see: a stale u made CG crawl after the next exact product, issue 12).
   bool released = false;
+  std::vector<Eigen::Index>& back = w.back_idx;
+  back.clear();
+  for (auto& v : w.back_val) v.clear();
   for (const Eigen::Index k : w.idx) {
     const Vec<NC> dk = at<NC>(d, k), t0 = at<NC>(tau, k), t = t0 + theta * dk;
     const double m = t.norm();
-    // A damped turn (theta < 1) cuts the chord inside the disc; a node whose full step stayed
-    // on the bound is put back on it, so turning does not release it. The O(theta |d|^2)
-    // radial change is left out of u until the next exact product (see `dirty`).
-    const bool full_on_bound = (t0 + dk).norm() >= g(k) * (1.0 - kBoundEps);
-    if (full_on_bound && m > 0.0 && m < g(k)) {
-      put<NC>(tau, k, t * (g(k) / m));
-      w.dirty = true;
+    const Vec<NC> full = t0 + dk;
+    const bool turn = full.norm() >= g(k) * (1.0 - kBoundEps) && full.dot(t0) > 0.0;
+    if (turn && m > 0.0 && m < g(k)) {
+      const Vec<NC> y = t * (g(k) / m);
+      back.push_back(k);
+      for (int c = 0; c < NC; ++c) w.back_val[c].push_back(y(c) - t(c));
+      put<NC>(tau, k, y);
     } else {
       put<NC>(tau, k, t);
       released |= m < g(k) * (1.0 - kBoundEps);
     }
   }
+  w.op.add_sparse(back, w.back_val, tau, u);
   clear_step();
   return released;
 }

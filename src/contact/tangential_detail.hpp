@@ -20,6 +20,8 @@ double bound_force(const Field& g, const Grid& grid);
 /// dU: imposed (displacement control) or the mean of u - u0 over stick nodes (force control).
 Eigen::VectorXd shift_estimate(const TangentialIncrement& inc, const VecField& u,
                                const Field& free);
+/// Force control at or past full sliding: |F| >= sum g h^2 (1 - tolerance).
+bool past_full_sliding(const TangentialIncrement& inc, const Grid& grid, double tolerance);
 /// Projects every node onto its disc |tau| <= g (open nodes to zero); true if anything moved.
 bool project_all(const Field& g, VecField& tau);
 
@@ -95,8 +97,6 @@ struct Workspace {
   TangentialOptions opt;
   NodeSets sets;
   double scale = 1.0, gsum = 0.0;  ///< |C g| and sum g (Pa * cells)
-  /// u lags tau by second-order terms: recompute before trusting it.
-  bool dirty = false;
   /// Stick flags and C 1_S of the last uniform force correction.
   std::vector<std::uint8_t> image_stick;
   Field stick_image;
@@ -104,6 +104,9 @@ struct Workspace {
   VecField slip_step, slip_image;
   std::vector<Eigen::Index> idx;
   std::vector<std::vector<double>> val;
+  /// Slip nodes put back on their bound after a damped turn, and their traction change.
+  std::vector<Eigen::Index> back_idx;
+  std::vector<std::vector<double>> back_val;
   std::int64_t conv0 = 0;
   TangentialResult result;
 };

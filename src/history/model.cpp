@@ -100,10 +100,14 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
     m->tangential_operator = std::make_unique<TangentialOperator>(*m->half_space);
   TangentialOptions topt{sc.solver.tolerance, sc.solver.max_iterations};
   topt.precondition = sc.solver.precondition;
-  if (sc.solver.algorithm == TangentialAlgorithm::partition)
-    m->tangential = std::make_unique<PartitionSolver>(*m->tangential_operator, topt);
-  else
-    m->tangential = std::make_unique<ProjectedCgSolver>(*m->tangential_operator, topt);
+  // The chosen algorithm, with the other one and sub-steps as fallbacks (issues 12, 18).
+  std::unique_ptr<TangentialSolver> projected =
+      std::make_unique<ProjectedCgSolver>(*m->tangential_operator, topt);
+  std::unique_ptr<TangentialSolver> partition =
+      std::make_unique<PartitionSolver>(*m->tangential_operator, topt);
+  if (sc.solver.algorithm == TangentialAlgorithm::partition) std::swap(projected, partition);
+  m->tangential = std::make_unique<FallbackTangentialSolver>(
+      *m->tangential_operator, sc.solver.tolerance, std::move(projected), std::move(partition));
   // The stiffness solve's own floor of 1e-9 is raised to what float FFTs can reach: it is an
   // internal accuracy choice, not the user's tolerance (which is at least that floor).
   if (sc.solver.stiffness != StiffnessMode::none)

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "fretbem/contact/monotone_shortcut.hpp"
+#include "fretbem/core/format.hpp"
 #include "fretbem/history/resolution.hpp"
 
 namespace fretbem {
@@ -79,6 +80,15 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
   return rec;
 }
 
+// A solve failed after every fallback: name the step and cycle (and the wear cycle of a wear
+// run) and hand the inputs to the caller, which writes them to DIR/failed_solve.h5.
+void Stepper::fail(const StepRecord& rec, const SolverError& e, FailedSolve f) const {
+  std::string where = "step " + std::to_string(rec.step) + ", cycle " + std::to_string(rec.cycle);
+  if (wear_cycle_ >= 0.0) where = "wear cycle N = " + format_number(wear_cycle_) + ", " + where;
+  f.scenario = model_.scenario.resolved_text;
+  throw IncrementFailure(where + ": " + e.what(), std::move(f), model_.scenario.output.dir);
+}
+
 // Normal solve, skipped when neither the normal load nor the surface changed. Returns whether
 // the Coulomb bound mu p changed.
 bool Stepper::normal_step(const LoadStep& ls, StepRecord& rec) {
@@ -88,10 +98,20 @@ bool Stepper::normal_step(const LoadStep& ls, StepRecord& rec) {
   // lie below the original one, so delta is converted to the unworn surface's datum (its
   // growth under constant normal force is the wear's signature).
   const double datum = model_.surface0.maxCoeff() - model_.surface.maxCoeff();
-  const NormalResult r =
-      ls.normal.force_control
-          ? ns.solve_force(model_.surface, ls.normal.value, state_.pressure)
-          : ns.solve_indentation(model_.surface, ls.normal.value - datum, state_.pressure);
+  const Field start = state_.pressure;
+  NormalResult r;
+  try {
+    r = ls.normal.force_control
+            ? ns.solve_force(model_.surface, ls.normal.value, state_.pressure)
+            : ns.solve_indentation(model_.surface, ls.normal.value - datum, state_.pressure);
+  } catch (const SolverError& e) {
+    FailedSolve f;
+    f.solve = "normal";
+    f.control = ls.normal.force_control ? "force" : "indentation";
+    f.target = Eigen::VectorXd::Constant(1, ls.normal.value - (f.control == "force" ? 0 : datum));
+    f.surface = model_.surface, f.pressure_start = start;
+    fail(rec, e, std::move(f));
+  }
   last_normal_ = ls.normal;
   surface_changed_ = false;
   state_.normal_force = r.force;
@@ -138,7 +158,17 @@ bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
                                                                   : inc.target.isZero(0.0));
   last_target_ = inc.target;
   if (same_load && !bound_changed) return false;
-  const TangentialResult r = model_.tangential->solve(inc, state_.traction, state_.displacement);
+  TangentialResult r;
+  try {
+    r = model_.tangential->solve(inc, state_.traction, state_.displacement);
+  } catch (const SolverError& e) {
+    FailedSolve f;
+    f.solve = "tangential";
+    f.control = inc.control == TangentialControl::force ? "force" : "displacement";
+    f.target = inc.target, f.bound = bound_, f.tau0 = tau0, f.u0 = u0;
+    f.direction = op.direction();
+    fail(rec, e, std::move(f));
+  }
   rec.tangential_iterations = r.iterations;
   rec.tangential_residual = r.residual;
   state_.shift += op.to_global(r.shift);

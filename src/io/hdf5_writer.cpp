@@ -151,9 +151,10 @@ void Hdf5Writer::Impl::open_timeseries() {
 
 Hdf5Writer::Hdf5Writer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
-Hdf5Writer::Hdf5Writer(const fs::path& dir) : impl_(std::make_unique<Impl>()) {
+Hdf5Writer::Hdf5Writer(const fs::path& dir, const std::string& name)
+    : impl_(std::make_unique<Impl>()) {
   hdf5::silence();
-  impl_->path = dir / file_name;
+  impl_->path = dir / name;
   std::error_code ec;
   if (!dir.empty()) fs::create_directories(dir, ec);
   if (ec) throw InputError(dir.string() + ": cannot create the output folder: " + ec.message());

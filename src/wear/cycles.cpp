@@ -213,6 +213,7 @@ WearCycle WearCycles::measure(double N, const std::vector<LoadStep>& steps, doub
   const Field wear0 = s.wear, path0 = s.slip_path;
   const Field worn = model_.surface0 - model_.surface;
   double diss0 = stepper_.memory().dissipation;
+  stepper_.set_wear_cycle(N);  // named in a solver failure's message
   WearCycle c;
   c.N = N;
   c.stick_area = INFINITY;

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <string>
 
 #include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/contact/tangential_operator.hpp"
@@ -115,5 +116,46 @@ std::int64_t largest_contact_patch(const Field& bound);
 /// Stick-node tolerance: a node with |tau| < g (1 - kBoundEps) is free to stick; slip nodes sit
 /// on the bound up to round-off because they are placed there by projection.
 inline constexpr double kBoundEps = 1e-12;
+
+}  // namespace fretbem
+
+namespace fretbem {
+
+/// The solver a run uses: the chosen algorithm first; when an increment does not converge,
+/// fallbacks in order — the other algorithm from the same warm start; under force control,
+/// displacement-controlled solves for the shift that carries the force; then the increment
+/// split into 2, 4, ..., kMaxSubsteps equal sub-steps (each with both algorithms). It says so once
+/// on stderr (per solver) and throws the first algorithm's SolverError only when every
+/// fallback failed. Sub-steps follow the load linearly (force or rigid shift): on a monotone
+/// segment at constant pressure the incremental solution does not depend on the step size.
+class FallbackTangentialSolver final : public TangentialSolver {
+ public:
+  /// `tolerance`: the solvers' relative tolerance (the force fallback's force tolerance is
+  /// tolerance * sum g h^2, as the force part of TangentialResult::residual).
+  FallbackTangentialSolver(TangentialOperator& op, double tolerance,
+                           std::unique_ptr<TangentialSolver> primary,
+                           std::unique_ptr<TangentialSolver> secondary);
+  TangentialResult solve(const TangentialIncrement& inc, VecField& tau, VecField& u) override;
+  /// Fallbacks used so far (0 when every increment converged at once).
+  int fallbacks() const { return fallbacks_; }
+  static constexpr int kMaxSubsteps = 16;
+  /// Broyden iterations of the force-control fallback.
+  static constexpr int kShiftIterations = 60;
+
+ private:
+  bool try_solve(TangentialSolver& s, const TangentialIncrement& inc, VecField& tau, VecField& u,
+                 TangentialResult& r);
+  bool force_by_shift(const TangentialIncrement& inc, VecField& tau, VecField& u,
+                      TangentialResult& r);
+  bool substeps(int m, const TangentialIncrement& inc, VecField& tau, VecField& u,
+                TangentialResult& r);
+  void announce(const std::string& what);
+
+  Grid grid_;
+  double tolerance_, self_compliance_;
+  std::unique_ptr<TangentialSolver> primary_, secondary_;
+  int fallbacks_ = 0;
+  bool announced_ = false;
+};
 
 }  // namespace fretbem

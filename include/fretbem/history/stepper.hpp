@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "fretbem/history/failed_solve.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/observables.hpp"
 
@@ -48,6 +49,8 @@ class Stepper {
   /// even at an unchanged normal load (DESIGN §2 "no normal re-solve when F_z, delta and the
   /// surface did not change").
   void surface_changed() { surface_changed_ = true; }
+  /// Wear runs: the wear cycle N being simulated, named when a solve fails.
+  void set_wear_cycle(double N) { wear_cycle_ = N; }
 
   const InterfaceState& state() const { return state_; }
   /// Restart support: the complete state after the last finished step, and its restoration.
@@ -61,6 +64,7 @@ class Stepper {
   bool tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec);
   bool shortcut_applies(std::size_t k) const;
   void shortcut_step(const LoadStep& ls, StepRecord& rec);
+  [[noreturn]] void fail(const StepRecord& rec, const SolverError& e, FailedSolve f) const;
   void accumulate_slip(const VecField& u0, const VecField* tau0, const Eigen::VectorXd& dU,
                        StepRecord& rec);
   Field moving_bound_work(const StateField& before, const VecField& tau0, const VecField& s) const;
@@ -79,6 +83,7 @@ class Stepper {
   double wear_volume_ = 0.0;
   std::size_t next_ = 0;
   bool surface_changed_ = false;
+  double wear_cycle_ = -1.0;  // < 0: not a wear run
 };
 
 }  // namespace fretbem

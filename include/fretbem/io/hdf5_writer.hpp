@@ -26,7 +26,8 @@ class Hdf5Writer {
 
   /// Creates DIR (and parents) if needed and DIR/result.h5, replacing any old file.
   /// Throws InputError naming the path if it cannot be created.
-  explicit Hdf5Writer(const std::filesystem::path& dir);
+  /// `name` replaces result.h5 for other files of the same layout (failed_solve.h5).
+  explicit Hdf5Writer(const std::filesystem::path& dir, const std::string& name = file_name);
   /// Opens an existing DIR/result.h5 for appending (resume): an existing /timeseries is
   /// continued with its columns. Throws InputError naming the path if it cannot be opened.
   static Hdf5Writer open_existing(const std::filesystem::path& dir);
