@@ -122,6 +122,7 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
   stepper.run(obs, budget);
   if (stepper.memory().next_step < stepper.steps()) {
     save_checkpoint(dir, model, stepper);
+    h5.write_xdmf();
     std::printf("fretbem: stopped after step %zu of %zu; continue with: fretbem run --resume %s\n",
                 stepper.memory().next_step - 1, stepper.steps() - 1, dir.string().c_str());
     return 0;
@@ -140,7 +141,7 @@ int cmd_run(const Args& a) {
       throw InputError("run --resume DIR takes no scenario or --set: the run's own is used");
     const Checkpoint cp = load_checkpoint(a.resume);
     Scenario sc = parse_scenario(cp.scenario_text, "resume", ".", {});
-    sc.output.dir = a.resume;
+    set_output_dir(sc, a.resume);
     auto model = build_model(sc);
     if (model->wear) {
       run_wear(*model, a.quiet, &cp, a.stop_after);
@@ -153,7 +154,7 @@ int cmd_run(const Args& a) {
     return run_model(*model, stepper, long(cp.memory.next_step), a);
   }
   Scenario sc = read_scenario(a);
-  if (!a.out.empty()) sc.output.dir = a.out;
+  if (!a.out.empty()) set_output_dir(sc, a.out);
   auto model = build_model(sc);
   if (model->wear) {  // wear runs: their own driver and checkpoints
     run_wear(*model, a.quiet, nullptr, a.stop_after);

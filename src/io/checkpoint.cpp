@@ -7,6 +7,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/hdf5.hpp"
+#include "fretbem/io/result_metadata.hpp"
 
 namespace fretbem {
 
@@ -179,6 +180,8 @@ void save_checkpoint(const fs::path& dir, const Model& model, const Stepper& ste
   {
     hdf5::File f(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
     if (f.get() < 0) throw InputError(tmp.string() + ": cannot create checkpoint");
+    io::write_file_attributes(f.get(), model.scenario.grid, dir, "fretbem checkpoint",
+                              tmp.string());
     write_text(f.get(), "scenario", model.scenario.resolved_text);
     write_state(f.get(), stepper.state());
     write_memory(f.get(), stepper.memory());

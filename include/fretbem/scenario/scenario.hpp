@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/elastic/grid.hpp"
 #include "fretbem/elastic/half_space.hpp"
 #include "fretbem/elastic/material.hpp"
-#include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/surface/surface.hpp"
 
 namespace fretbem {
@@ -114,5 +114,9 @@ Scenario load_scenario(const std::filesystem::path& file,
 Scenario parse_scenario(const std::string& text, const std::string& name,
                         const std::filesystem::path& base_dir,
                         const std::vector<std::string>& overrides = {});
+
+/// Sets output.dir (e.g. from `run --out DIR`) and rewrites resolved_text to match, so the
+/// scenario stored in result files names the folder the run actually wrote.
+void set_output_dir(Scenario& scenario, const std::filesystem::path& dir);
 
 }  // namespace fretbem
