@@ -33,6 +33,8 @@ struct SurfaceSpec {
   RoughSpec rough;             ///< rough surfaces
   std::filesystem::path file;  ///< file surfaces (resolved against the scenario's folder)
   std::string dataset;         ///< HDF5 dataset name for file surfaces ("" = first 2-D dataset)
+  /// Axis order of .npy/.npz/.h5/text height maps (x3p files carry their own).
+  HeightLayout layout = HeightLayout::yx;
 };
 
 struct LoadSpec {
