@@ -183,6 +183,12 @@ int cmd_surface(const Args& a) {
   std::printf("  rms height %.6g m\n  rms slope  %.6g\n  min %.6g m  max %.6g m\n", st.rms_height,
               st.rms_slope, st.min, st.max);
   std::printf("  Hurst exponent fitted to the PSD: %.3f\n", st.hurst_fit);
+  if (st.hurst_fit_octaves < kMinHurstFitOctaves)
+    std::fprintf(stderr,
+                 "fretbem: warning: the Hurst fit rests on %.1f octave(s) of wavelengths "
+                 "(q from 4 to n/8 times 2 pi/L); below %.0f octaves fits of the same surface "
+                 "statistics scatter by up to +-0.75: use n >= 128 to measure H\n",
+                 std::max(st.hurst_fit_octaves, 0.0), kMinHurstFitOctaves);
   return 0;
 }
 
