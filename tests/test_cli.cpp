@@ -140,3 +140,37 @@ TEST(Cli, SurfaceWarnsWhenTheHurstFitRestsOnTooFewWavelengths) {
   }
   fs::remove(out);
 }
+
+// --quiet silences the progress report, not the results (issue 19); steps are counted as
+// `check` counts them, row 0 (the normal loading) included.
+TEST(Cli, QuietKeepsTheSummaryAndStopsCountRows) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("fretbem_cli_quiet_" + std::to_string(getpid()));
+  const std::string base = "run " + scenario("mindlin_cycle.ini") +
+                           " --quiet --set grid.n=16 --set load.steps_per_cycle=8 --out ";
+  const Result full = fretbem(base + (dir / "full").string());
+  ASSERT_EQ(full.status, 0) << full.err;
+  EXPECT_NE(full.out.find("steps done"), std::string::npos);
+  EXPECT_NE(full.out.find("energy per cycle: "), std::string::npos);
+  EXPECT_EQ(full.err, "");
+  const Result part = fretbem(base + (dir / "part").string() + " --stop-after 2");
+  ASSERT_EQ(part.status, 0) << part.err;
+  const Result check = fretbem("check " + scenario("mindlin_cycle.ini") +
+                               " --set grid.n=16 --set load.steps_per_cycle=8");
+  // The same total in both messages.
+  const auto total = full.out.substr(9, full.out.find(" steps done") - 9);
+  EXPECT_NE(part.out.find("stopped after 2 of " + total + " steps"), std::string::npos) << part.out;
+  EXPECT_NE(check.out.find(total), std::string::npos) << check.out;
+  fs::remove_all(dir);
+}
+
+// A surface needs no scenario file, whichever scale the user sets.
+TEST(Cli, SurfaceWithoutScenarioTakesEitherScale) {
+  const fs::path out =
+      fs::temp_directory_path() / ("fretbem_cli_slope_" + std::to_string(getpid()) + ".npy");
+  const Result r =
+      fretbem("surface --set grid.n=32 --set surface.rms_slope=0.1 --out " + out.string());
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("rms slope  0.1"), std::string::npos) << r.out;
+  fs::remove(out);
+}

@@ -16,6 +16,7 @@ FRETBEM_REQUIRED_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libfftw3-dev libsundials-dev libhdf5-dev libboost-program-options-dev
   libgtest-dev googletest
+  pybind11-dev python3-dev python3-numpy
   libxdmf-dev libzip-dev libpugixml-dev
 )
 # Only the plotting scripts (tools/plot_*.py) and h5dump use these.

@@ -1,63 +1,115 @@
 #!/usr/bin/python3
-"""Stick / slip / open map of saved steps of a fretbem run (like Fig. 5 of the paper).
+"""Maps of a saved field of a fretbem run at several steps (the stick/slip/open state is the
+paper's Fig. 5).
 
-usage: tools/plot_fields.py RUN_DIR [--steps 5,10,19] [--field state] [--out fields.png]
-Black: stick, grey: slip, white: open (field `state`); any other saved field (pressure,
-traction_x, ...) is drawn with a colour map. Steps default to every saved step (at most 6).
+usage: tools/plot_fields.py RUN_DIR [--steps 5,10,19] [--field state] [--out FILE.png]
+
+Fields (result.h5, `output.fields`): state (open / stick / slip), pressure and traction_x/y
+(MPa), slip_x/y (net slip since the start of the run, nm), dissipation (energy dissipated per
+unit area since the start, J/m²), wear (worn depth, nm). Axes in µm from the domain centre;
+each panel is titled with its step's F_x/(mu F_z) and U_x. Steps default to up to six saved
+steps spread over the run, turning points first. Writes FILE.png and FILE.pdf (default
+RUN_DIR/FIELD.png).
 """
 import argparse
 import os
-import sys
 
 import h5py
-import matplotlib
+import numpy as np
+from matplotlib.colors import ListedColormap
+from matplotlib.patches import Patch
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.colors import ListedColormap  # noqa: E402
+import fretbem_plot as fp
+
+TOOL = "plot_fields"
+
+# name: (colour-bar label, factor from SI)
+UNITS = {
+    "pressure": ("pressure (MPa)", 1e-6),
+    "traction_x": ("traction $\\tau_x$ (MPa)", 1e-6),
+    "traction_y": ("traction $\\tau_y$ (MPa)", 1e-6),
+    "slip_x": ("net slip $s_x$ since start (nm)", 1e9),
+    "slip_y": ("net slip $s_y$ since start (nm)", 1e9),
+    "dissipation": ("dissipated since start (J/m²)", 1.0),
+    "wear": ("worn depth (nm)", 1e9),
+}
 
 
 def saved_steps(h5):
-    if "fields" not in h5:
-        sys.exit("plot_fields: no fields saved (set output.fields in the scenario)")
+    if "fields" not in h5 or not len(h5["fields"]):
+        fp.fail(TOOL, "no fields saved (set output.fields in the scenario)")
     return sorted(int(k.split("_")[1]) for k in h5["fields"])
+
+
+def default_steps(saved, ts, most=6):
+    """Up to `most` saved steps spread over the run, turning points preferred."""
+    turning = [s for s in saved if "turning" in ts and s < len(ts["turning"])
+               and ts["turning"][s] == 1]
+    rest = [s for s in saved if s not in turning]
+    pool = turning if len(turning) >= most else sorted(turning + rest)
+    pick = np.unique(np.linspace(0, len(pool) - 1, min(most, len(pool))).round().astype(int))
+    chosen = sorted(set(pool[i] for i in pick) | set(turning[:most]))
+    return chosen[:most] if len(chosen) > most else chosen
+
+
+def panel_title(ts, step, mu):
+    if step >= len(ts["Fx"]):
+        return f"step {step}"
+    f = ts["Fx"][step] / (mu * ts["Fz"][step]) if mu else float("nan")
+    return f"step {step}: $F_x/\\mu F_z$ = {f:+.2f}, $U_x$ = {ts['Ux'][step] * 1e9:.3g} nm"
+
+
+def draw(fig, ax, field, a, extent):
+    ax.grid(False)
+    if field == "state":
+        cmap = ListedColormap(["white", "black", "0.6"])
+        ax.imshow(a, origin="lower", cmap=cmap, vmin=-0.5, vmax=2.5, interpolation="nearest",
+                  extent=extent)
+        return
+    label, factor = UNITS.get(field, (field, 1.0))
+    im = ax.imshow(a * factor, origin="lower", cmap="viridis", interpolation="nearest",
+                   extent=extent)
+    fig.colorbar(im, ax=ax, shrink=0.85, label=label)
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("run_dir")
-    ap.add_argument("--steps", default=None)
+    ap.add_argument("--steps", default=None, help="comma-separated step numbers")
     ap.add_argument("--field", default="state")
     ap.add_argument("--out", default=None)
     args = ap.parse_args()
+    scn = fp.read_scenario(args.run_dir)
+    length, mu = fp.number(scn, "grid.length"), fp.number(scn, "material.mu", 0.3)
+    ts = fp.read_csv(os.path.join(args.run_dir, "timeseries.csv"), TOOL)
     path = os.path.join(args.run_dir, "result.h5")
+    if not os.path.exists(path):
+        fp.fail(TOOL, f"{path}: not found")
     with h5py.File(path, "r") as h5:
-        steps = saved_steps(h5)
-        if args.steps:
-            steps = [int(s) for s in args.steps.split(",")]
-        steps = steps[-6:] if not args.steps else steps
-        fig, axes = plt.subplots(1, len(steps), figsize=(3 * len(steps), 3.2), squeeze=False)
+        saved = saved_steps(h5)
+        steps = [int(s) for s in args.steps.split(",")] if args.steps else \
+            default_steps(saved, ts)
+        fig, axes = fp.figure(ncols=len(steps), width=2.9, height=2.9)
         for ax, s in zip(axes[0], steps):
-            if f"step_{s:06d}" not in h5["fields"]:
-                sys.exit(f"plot_fields: step {s} not saved; saved steps: {saved_steps(h5)}")
+            if s not in saved:
+                fp.fail(TOOL, f"step {s} not saved; saved steps: {saved}")
             g = h5[f"fields/step_{s:06d}"]
             if args.field not in g:
-                sys.exit(f"plot_fields: step {s} has no field '{args.field}'")
-            a = np.asarray(g[args.field])  # array[j, i]: rows along y
-            if args.field == "state":
-                cmap = ListedColormap(["white", "black", "0.6"])
-                ax.imshow(a, origin="lower", cmap=cmap, vmin=-0.5, vmax=2.5,
-                          interpolation="nearest")
-            else:
-                im = ax.imshow(a, origin="lower", cmap="viridis", interpolation="nearest")
-                fig.colorbar(im, ax=ax, shrink=0.8)
-            ax.set_title(f"step {s}, t = {g.attrs['time']:.3g}", fontsize=9)
-            ax.set_xticks([]), ax.set_yticks([])
-    fig.tight_layout()
+                fp.fail(TOOL, f"step {s} has no field '{args.field}'; it has {list(g)}")
+            a = np.asarray(g[args.field], dtype=float)  # array[j, i]: rows along y
+            ny, nx = a.shape
+            half_x = 0.5 * length * 1e6 if length else 0.5 * nx
+            half_y = half_x * ny / nx
+            draw(fig, ax, args.field, a, [-half_x, half_x, -half_y, half_y])
+            ax.set_title(panel_title(ts, s, mu), fontsize=7)
+            ax.set_xlabel("x (µm)" if length else "x (cells)")
+        axes[0][0].set_ylabel("y (µm)" if length else "y (cells)")
+    if args.field == "state":
+        axes[0][-1].legend(handles=[Patch(facecolor=c, edgecolor="k", label=n) for c, n in
+                                    (("black", "stick"), ("0.6", "slip"), ("white", "open"))],
+                           loc="upper left", bbox_to_anchor=(1.02, 1.0), frameon=False)
     out = args.out or os.path.join(args.run_dir, f"{args.field}.png")
-    fig.savefig(out, dpi=130)
-    print(out)
+    fp.save(fig, out)
 
 
 if __name__ == "__main__":

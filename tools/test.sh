@@ -6,8 +6,8 @@ set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 cd "$FRETBEM_ROOT"
 
-# shellcheck disable=SC2119  # no arguments on purpose: required packages only, all targets
-fretbem_install_dependencies
+# The plotting packages are installed too: the suite tests the plot tools with them.
+fretbem_install_dependencies --with-optional
 # shellcheck disable=SC2119
 fretbem_build
 

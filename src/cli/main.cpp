@@ -1,15 +1,18 @@
 // fretbem command line: run | check | surface (DESIGN §4 "CLI").
+#include <algorithm>
 #include <boost/program_options.hpp>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/format.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/io/checkpoint.hpp"
@@ -43,7 +46,7 @@ constexpr const char* kUsage =
 // A minimal rough-surface scenario for `fretbem surface` without a scenario file.
 constexpr const char* kSurfaceDefaults =
     "[material]\nE = 1\nnu = 0\n[grid]\nn = 256\nlength = 1\n"
-    "[surface]\ntype = rough\nhurst = 0.8\nrms_height = 1e-3\nmethod = fourier\nseed = 1\n"
+    "[surface]\ntype = rough\nhurst = 0.8\nmethod = fourier\nseed = 1\n"
     "[load]\nnormal_force = 1\n";
 
 struct Args {
@@ -105,6 +108,30 @@ std::vector<StepRecord> read_timeseries(const std::filesystem::path& dir, std::s
   return out;
 }
 
+// The energy per cycle of the last complete cycle of cycles.csv (every cycle but a shorter
+// last one), or none when the path has no complete cycle.
+std::optional<std::pair<int, double>> steady_energy(const std::filesystem::path& cycles) {
+  const auto t = csv::read_table(cycles, {.allow_nan = true});
+  const long steps = t.find("steps"), energy = t.find("dissipated_energy");
+  if (steps < 0 || energy < 0 || t.rows.empty()) return std::nullopt;
+  double most = 0;
+  for (const auto& r : t.rows) most = std::max(most, r[steps]);
+  for (auto r = t.rows.rbegin(); r != t.rows.rend(); ++r)
+    if ((*r)[steps] == most) return std::pair{int(r->front()), (*r)[energy]};
+  return std::nullopt;
+}
+
+// The final summary: printed with --quiet too (it silences progress, not results).
+void print_summary(std::size_t steps, bool cyclic, const std::filesystem::path& ts,
+                   const std::filesystem::path& cycles, const std::filesystem::path& h5) {
+  std::printf("fretbem: %zu steps done\n", steps);
+  if (const auto e = cyclic ? steady_energy(cycles) : std::nullopt)
+    std::printf("  energy per cycle: %s J (cycle %d, the last complete one)\n",
+                format_number(e->second).c_str(), e->first);
+  std::printf("  time series: %s\n  cycles:      %s\n  fields:      %s\n", ts.string().c_str(),
+              cycles.string().c_str(), h5.string().c_str());
+}
+
 int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
   const bool quiet = a.quiet;
   const auto& dir = model.scenario.output.dir;
@@ -123,15 +150,14 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
   if (stepper.memory().next_step < stepper.steps()) {
     save_checkpoint(dir, model, stepper);
     h5.write_xdmf();
-    std::printf("fretbem: stopped after step %zu of %zu; continue with: fretbem run --resume %s\n",
-                stepper.memory().next_step - 1, stepper.steps() - 1, dir.string().c_str());
+    // Steps count rows of timeseries.csv: row 0 is the normal loading (as `check` counts).
+    std::printf("fretbem: stopped after %zu of %zu steps; continue with: fretbem run --resume %s\n",
+                stepper.memory().next_step, stepper.steps(), dir.string().c_str());
     return 0;
   }
-  if (!quiet)
-    std::printf(
-        "fretbem: %zu steps done\n  time series: %s\n  cycles:      %s\n  fields:      %s\n",
-        stepper.steps(), csv.path().string().c_str(), (dir / "cycles.csv").string().c_str(),
-        h5.path().string().c_str());
+  const PathType path = model.scenario.load.path;
+  print_summary(stepper.steps(), path == PathType::sine || path == PathType::table, csv.path(),
+                dir / "cycles.csv", h5.path());
   return 0;
 }
 
@@ -172,9 +198,20 @@ int cmd_check(const Args& a) {
   return 0;
 }
 
+// The default scale (rms height 1 mm of a 1 m domain) applies only when neither scale is set:
+// a user's surface.rms_slope must not meet a hidden rms_height.
+std::vector<std::string> with_default_scale(std::vector<std::string> sets) {
+  const bool scaled = std::any_of(sets.begin(), sets.end(), [](const std::string& s) {
+    return s.rfind("surface.rms_height", 0) == 0 || s.rfind("surface.rms_slope", 0) == 0;
+  });
+  if (!scaled) sets.insert(sets.begin(), "surface.rms_height=1e-3");
+  return sets;
+}
+
 int cmd_surface(const Args& a) {
   if (a.out.empty()) throw InputError("surface: --out FILE is required");
-  const Scenario sc = a.scenario.empty() ? parse_scenario(kSurfaceDefaults, "surface", ".", a.sets)
+  const Scenario sc = a.scenario.empty() ? parse_scenario(kSurfaceDefaults, "surface", ".",
+                                                          with_default_scale(a.sets))
                                          : read_scenario(a);
   const Field z = make_surface(sc);
   save_height_map(a.out, z);

@@ -1,0 +1,70 @@
+"""Closed forms fretbem is checked against and users compare with (SI units): effective moduli
+(DESIGN §1), Hertz, Cattaneo–Mindlin and Mindlin–Deresiewicz for a sphere under a constant
+normal force (Johnson, Contact Mechanics, §§4.2, 7.2, 7.5). Pure numpy: the plot tools load
+this file without the compiled module.
+"""
+import numpy as np
+
+
+class Contact:
+    """A sphere of radius R pressed with force P on a half-space; bodies as (E, nu) pairs, the
+    second None for a rigid indenter."""
+
+    def __init__(self, body1, body2=None, mu=0.3, radius=None, normal_force=None):
+        inv_e, inv_g = 0.0, 0.0
+        for body in (body1, body2):
+            if body is None:
+                continue
+            E, nu = body
+            inv_e += (1 - nu**2) / E
+            inv_g += (2 - nu) / (4 * E / (2 * (1 + nu)))
+        self.E_star, self.G_star = 1 / inv_e, 1 / inv_g
+        self.mu, self.R, self.P = mu, radius, normal_force
+        self.sphere = radius is not None
+
+    @property
+    def hertz_ok(self):
+        return self.sphere and self.R is not None and self.P is not None
+
+    def hertz_radius(self):
+        """a = (3 P R / 4 E*)^(1/3)."""
+        return (3 * self.P * self.R / (4 * self.E_star)) ** (1 / 3)
+
+    def hertz_indentation(self):
+        """delta = a^2 / R."""
+        return self.hertz_radius() ** 2 / self.R
+
+    def hertz_peak_pressure(self):
+        """p0 = 3 P / (2 pi a^2)."""
+        return 3 * self.P / (2 * np.pi * self.hertz_radius() ** 2)
+
+    def sliding_shift(self, delta):
+        """Full-sliding shift U* = mu delta E*/G* (delta: normal approach)."""
+        return self.mu * delta * self.E_star / self.G_star
+
+    def stick_radius(self, Q):
+        """Cattaneo: c = a (1 - Q/mu P)^(1/3)."""
+        return self.hertz_radius() * (1 - abs(Q) / (self.mu * self.P)) ** (1 / 3)
+
+    def md_shift(self, Q):
+        """Monotone Cattaneo–Mindlin shift under tangential force Q (|Q| < mu P):
+        (3 mu P / 4 a G*) (1 - (1 - Q/mu P)^(2/3)), odd in Q."""
+        a, muP = self.hertz_radius(), self.mu * self.P
+        Q = np.asarray(Q, dtype=float)
+        return np.sign(Q) * 3 * muP / (4 * a * self.G_star) * (1 - (1 - np.abs(Q) / muP) ** (2 / 3))
+
+    def md_loop(self, Q_star, points=200):
+        """Steady Mindlin–Deresiewicz loop between -Q* and +Q* (Masing: branches are the
+        monotone curve doubled in size): (U, F) along unloading then reloading."""
+        Q = np.linspace(Q_star, -Q_star, points)
+        down = self.md_shift(Q_star) - 2 * self.md_shift((Q_star - Q) / 2)
+        # Reloading is unloading mirrored through the origin: U_up(-F) = -U_down(F).
+        return np.concatenate((down, -down)), np.concatenate((Q, -Q))
+
+    def md_energy(self, Q_star):
+        """Energy per cycle (J): (9 mu^2 P^2 / 10 a)(4/G*)[1 - (1-x)^(5/3) - (5x/6)(1 + (1-x)^(2/3))],
+        x = Q*/mu P (Johnson eq. 7.60 with (2-nu1)/G1 + (2-nu2)/G2 = 4/G*)."""
+        a, muP = self.hertz_radius(), self.mu * self.P
+        x = Q_star / muP
+        bracket = 1 - (1 - x) ** (5 / 3) - 5 * x / 6 * (1 + (1 - x) ** (2 / 3))
+        return 9 * muP**2 / (10 * a) * 4 / self.G_star * bracket

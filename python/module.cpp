@@ -1,0 +1,243 @@
+// fretbem's Python API (pybind11): scenarios from INI files or dicts, the Model and its
+// Stepper driven step by step, fields as numpy arrays in the `[ny][nx]` layout of result.h5
+// (views without copies where the field is stored as such), height maps passed in with an
+// explicit axis order, the Ciavarella–Jäger shortcut and the Greenwood–Williamson model.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "fretbem/contact/monotone_shortcut.hpp"
+#include "fretbem/core/errors.hpp"
+#include "fretbem/history/model.hpp"
+#include "fretbem/history/stepper.hpp"
+#include "fretbem/io/run_output.hpp"
+#include "fretbem/scenario/scenario.hpp"
+#include "fretbem/study/greenwood_williamson.hpp"
+
+namespace py = pybind11;
+using namespace fretbem;
+
+namespace {
+
+// A Field (nx x ny, column-major: x fastest) seen as a numpy (ny, nx) C-ordered array that
+// shares its memory; `owner` keeps the storage alive.
+template <class Array>
+py::array view_yx(const Array& f, py::handle owner) {
+  using T = typename Array::Scalar;
+  const auto s = static_cast<py::ssize_t>(sizeof(T));
+  return py::array_t<T>({py::ssize_t(f.cols()), py::ssize_t(f.rows())},
+                        {s * py::ssize_t(f.rows()), s}, f.data(), owner);
+}
+
+py::array copy_yx(const Field& f) {
+  return view_yx(f, py::none()).attr("copy")();
+}
+
+// A height map given as numpy, in the order the user names: "yx" (rows along y, as result.h5
+// and fretbem's files) or "xy" (first index along x, as SurfaceTopography's arrays).
+Field field_from(py::array_t<double, py::array::forcecast> a, const std::string& layout,
+                 const Grid& g) {
+  if (a.ndim() != 2) throw InputError("surface: a 2-D array is needed");
+  if (layout != "yx" && layout != "xy")
+    throw InputError("layout = '" + layout + "' is not one of yx|xy");
+  const bool yx = layout == "yx";
+  const auto nx = yx ? a.shape(1) : a.shape(0), ny = yx ? a.shape(0) : a.shape(1);
+  if (nx != g.nx || ny != g.ny)
+    throw InputError("surface: array of " + std::to_string(nx) + " x " + std::to_string(ny) +
+                     " nodes (x x y, layout " + layout + ") on a grid of " + std::to_string(g.nx) +
+                     " x " + std::to_string(g.ny));
+  const auto r = a.unchecked<2>();
+  Field z(g.nx, g.ny);
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) z(i, j) = yx ? r(j, i) : r(i, j);
+  if (!z.allFinite()) throw InputError("surface: the array holds NaN or Inf");
+  return z;
+}
+
+py::dict record_dict(const StepRecord& r) {
+  py::dict d;
+  const auto vals = r.values();
+  const auto& cols = StepRecord::columns();
+  for (std::size_t i = 0; i < cols.size(); ++i) d[py::str(cols[i])] = vals[i];
+  return d;
+}
+
+// The Model with the Python objects it depends on.
+struct PyModel {
+  std::unique_ptr<Model> model;
+};
+
+struct PyStepper {
+  std::shared_ptr<PyModel> owner;
+  std::unique_ptr<Stepper> stepper;
+  std::size_t next = 0;
+
+  py::dict advance() {
+    if (next >= stepper->steps()) throw py::stop_iteration();
+    return record_dict(stepper->advance(next++));
+  }
+};
+
+Scenario from_text(const std::string& text, const std::string& name, const std::string& base,
+                   const std::vector<std::string>& overrides) {
+  return parse_scenario(text, name, base, overrides);
+}
+
+// {"material": {"E": 210e9, ...}, ...} -> INI text; values through Python's str(), so numbers
+// keep Python's shortest round-trip spelling.
+// (A stream, not string concatenation: GCC 12 warns falsely (-Wrestrict) on the latter here.)
+std::string ini_of(const py::dict& d) {
+  std::ostringstream text;
+  for (auto [section, keys] : d) {
+    text << "[" << py::str(section).cast<std::string>() << "]\n";
+    for (auto [k, v] : keys.cast<py::dict>()) {
+      text << py::str(k).cast<std::string>() << " = ";
+      if (py::isinstance<py::bool_>(v))
+        text << (v.cast<bool>() ? "true" : "false");
+      else
+        text << py::str(v).cast<std::string>();
+      text << "\n";
+    }
+  }
+  return text.str();
+}
+
+void bind_scenario(py::module_& m) {
+  py::class_<Scenario>(m, "Scenario", "A validated scenario (every key checked, SI units).")
+      .def_static(
+          "from_file",
+          [](const std::string& path, const std::vector<std::string>& overrides) {
+            return load_scenario(path, overrides);
+          },
+          py::arg("path"), py::arg("overrides") = std::vector<std::string>{},
+          "Reads an INI scenario; overrides are 'section.key=value' strings.")
+      .def_static(
+          "from_dict",
+          [](const py::dict& d, const std::string& base, const std::vector<std::string>& o) {
+            return from_text(ini_of(d), "python", base, o);
+          },
+          py::arg("sections"), py::arg("base_dir") = ".",
+          py::arg("overrides") = std::vector<std::string>{},
+          "Builds a scenario from {'section': {'key': value}}; relative paths against base_dir.")
+      .def_static("from_text", &from_text, py::arg("text"), py::arg("name") = "python",
+                  py::arg("base_dir") = ".", py::arg("overrides") = std::vector<std::string>{})
+      .def_property_readonly(
+          "text", [](const Scenario& s) { return s.resolved_text; },
+          "The resolved scenario: every key with its final value.")
+      .def_property_readonly(
+          "shape", [](const Scenario& s) { return py::make_tuple(s.grid.ny, s.grid.nx); },
+          "(ny, nx), the shape of every field array")
+      .def_property_readonly(
+          "spacing", [](const Scenario& s) { return s.grid.h; }, "h (m)")
+      .def_property_readonly("E_star", [](const Scenario& s) { return s.material.E_star(); })
+      .def_property_readonly("G_star", [](const Scenario& s) { return s.material.G_star(); })
+      .def_property_readonly("mu", [](const Scenario& s) { return s.material.mu; });
+}
+
+void bind_model(py::module_& m) {
+  py::class_<PyModel, std::shared_ptr<PyModel>>(m, "Model", "Grid, surface, operators and solvers.")
+      .def(py::init([](const Scenario& sc, py::object surface, const std::string& layout) {
+             auto pm = std::make_shared<PyModel>();
+             pm->model = build_model(sc);
+             if (!surface.is_none()) {
+               pm->model->surface0 = field_from(surface, layout, sc.grid);
+               pm->model->surface = pm->model->surface0;
+             }
+             return pm;
+           }),
+           py::arg("scenario"), py::arg("surface") = py::none(), py::arg("layout") = "yx",
+           "surface: optional height map (m, peaks positive) replacing the scenario's; "
+           "layout 'yx' (array[j, i] at x_i, y_j) or 'xy' (array[i, j]).")
+      .def_property_readonly(
+          "surface",
+          [](py::object self) { return view_yx(self.cast<PyModel&>().model->surface, self); },
+          "current indenter height (m), [ny][nx], a view")
+      .def_property_readonly("steps", [](const PyModel& p) { return p.model->path.steps.size(); });
+}
+
+void bind_stepper(py::module_& m) {
+  py::class_<PyStepper>(m, "Stepper", "Walks the load path one step at a time.")
+      .def(py::init([](std::shared_ptr<PyModel> pm) {
+             PyStepper s;
+             s.owner = pm;
+             s.stepper = std::make_unique<Stepper>(*pm->model);
+             return s;
+           }),
+           py::arg("model"))
+      .def("advance", &PyStepper::advance,
+           "Runs the next step; returns its time-series row as a dict (StopIteration at the "
+           "end).")
+      .def("__iter__", [](PyStepper& s) -> PyStepper& { return s; })
+      .def("__next__", &PyStepper::advance)
+      .def_property_readonly("next_step", [](const PyStepper& s) { return s.next; })
+      .def_property_readonly(
+          "pressure",
+          [](py::object self) {
+            return view_yx(self.cast<PyStepper&>().stepper->state().pressure, self);
+          },
+          "p (Pa), [ny][nx], a view valid until the next step changes it")
+      .def_property_readonly(
+          "state",
+          [](py::object self) {
+            return view_yx(self.cast<PyStepper&>().stepper->state().state, self);
+          },
+          "0 open, 1 stick, 2 slip (uint8), [ny][nx], a view")
+      .def(
+          "field",
+          [](const PyStepper& s, const std::string& name) {
+            const auto f = output_fields({name}, s.stepper->state(), *s.owner->model);
+            if (f.empty())
+              throw InputError("field '" + name +
+                               "' is not one of pressure, traction_x, traction_y, state, "
+                               "slip_x, slip_y, dissipation, wear");
+            return copy_yx(f.begin()->second);
+          },
+          py::arg("name"), "A copy of an output field in global x/y components, [ny][nx].");
+}
+
+void bind_closed_forms(py::module_& m) {
+  auto gw = m.def_submodule("gw", "Greenwood–Williamson model of the paper (eqs. 11–15, 25–28)");
+  gw.def("stick_area_ratio", &gw::stick_area_ratio, py::arg("b"));
+  gw.def("force_ratio", &gw::force_ratio, py::arg("b"));
+  gw.def("stick_force_ratio", &gw::stick_force_ratio, py::arg("b"));
+  gw.def("slip_force_ratio", &gw::slip_force_ratio, py::arg("b"));
+  gw.def("b_of_force_ratio", &gw::b_of_force_ratio, py::arg("f"));
+  gw.def("stiffness_ratio_flat", &gw::stiffness_ratio_flat, py::arg("f"));
+  gw.def("stiffness_ratio_fractal", &gw::stiffness_ratio_fractal, py::arg("f"), py::arg("hurst"));
+  m.def(
+      "ciavarella_jaeger",
+      [](PyStepper& s, double Ft) {
+        const Model& model = *s.owner->model;
+        const InterfaceState& st = s.stepper->state();
+        if (s.next == 0) throw InputError("ciavarella_jaeger: advance() the normal loading first");
+        const ShortcutResult r = ciavarella_jaeger_force(
+            *model.normal, model.surface, st.pressure, st.normal_force, st.indentation,
+            model.scenario.material.mu, model.half_space->tangential_ratio(), Ft);
+        py::dict d;
+        d["traction"] = copy_yx(r.traction);
+        d["shift"] = r.shift;
+        d["force"] = r.force;
+        return d;
+      },
+      py::arg("stepper"), py::arg("force"),
+      "The Ciavarella–Jäger solution at tangential force F_t (N) on the stepper's current "
+      "normal contact: {'traction' (Pa, [ny][nx]), 'shift' (m), 'force' (N)}.");
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_fretbem, m) {
+  m.doc() = "fretbem: frictional contact of rough elastic surfaces under load histories";
+  m.attr("__version__") = FRETBEM_VERSION;
+  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+  py::register_exception<SolverError>(m, "SolverError", PyExc_RuntimeError);
+  bind_scenario(m);
+  bind_model(m);
+  bind_stepper(m);
+  bind_closed_forms(m);
+}
