@@ -44,7 +44,7 @@ ratio=$(awk -v e="$energy" -v c="$closed" 'BEGIN { printf "%+.2f", 100 * (e / c 
 
 plot="(python3-matplotlib not installed: no plot; tools/plot_hysteresis.py $out draws it)"
 if /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
-  plot=$(/usr/bin/python3 tools/plot_hysteresis.py "$out" --out "$out/hysteresis.png" | tail -n 1)
+  plot=$(/usr/bin/python3 tools/plot_hysteresis.py "$out" --out "$out/hysteresis.png" | grep "\.png$" | tail -n 1)
 fi
 
 cat <<MSG
