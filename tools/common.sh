@@ -19,6 +19,9 @@ FRETBEM_REQUIRED_PACKAGES=(
   pybind11-dev python3-dev python3-numpy
   libxdmf-dev libzip-dev libpugixml-dev
 )
+# MPI is optional for the build (FRETBEM_MPI=AUTO finds it); tools/test.sh installs it so that
+# the suite also runs the MPI sweep tests (tests/test_sweep_mpi.cpp, ~10-20 s; docs/cluster.md).
+FRETBEM_MPI_PACKAGES=(libopenmpi-dev openmpi-bin)
 # Only the plotting scripts (tools/plot_*.py) and h5dump use these.
 FRETBEM_OPTIONAL_PACKAGES=(python3-numpy python3-h5py python3-matplotlib hdf5-tools)
 
@@ -48,12 +51,14 @@ fretbem_as_root() {
 
 # Installs the missing packages of the given list; `apt-get update` only when something is
 # missing, so a provisioned machine never touches the network.
-# Usage: fretbem_install required|optional
+# Usage: fretbem_install required|mpi|optional
 fretbem_install() {
   local kind="$1" missing
   local -a wanted
   if [[ "$kind" == required ]]; then
     wanted=("${FRETBEM_REQUIRED_PACKAGES[@]}")
+  elif [[ "$kind" == mpi ]]; then
+    wanted=("${FRETBEM_MPI_PACKAGES[@]}")
   else
     wanted=("${FRETBEM_OPTIONAL_PACKAGES[@]}")
   fi
@@ -78,10 +83,21 @@ fretbem_install_dependencies() {
     return 0
   fi
   fretbem_install required
-  if [[ "${1:-}" == --with-optional ]]; then
-    # Plotting extras are a convenience: a failure here must not stop the build.
-    fretbem_install optional || fretbem_log "optional plotting packages not installed; continuing"
-  fi
+  local flag
+  for flag in "$@"; do
+    case "$flag" in
+      --with-mpi)
+        # Without MPI the build still works (sweeps run in one process): do not stop here.
+        fretbem_install mpi || fretbem_log "OpenMPI not installed; building without MPI sweeps"
+        ;;
+      --with-optional)
+        # Plotting extras are a convenience: a failure here must not stop the build.
+        fretbem_install optional ||
+          fretbem_log "optional plotting packages not installed; continuing"
+        ;;
+      *) fretbem_log "fretbem_install_dependencies: unknown option $flag" ;;
+    esac
+  done
 }
 
 # Configures (Release, Ninja) on first use and builds the given targets (default: all).

@@ -6,8 +6,9 @@ set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 cd "$FRETBEM_ROOT"
 
-# The plotting packages are installed too: the suite tests the plot tools with them.
-fretbem_install_dependencies --with-optional
+# The plotting packages are installed too: the suite tests the plot tools with them; and
+# OpenMPI, so that the MPI sweep tests run (docs/cluster.md).
+fretbem_install_dependencies --with-optional --with-mpi
 # shellcheck disable=SC2119
 fretbem_build
 

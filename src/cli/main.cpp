@@ -19,6 +19,7 @@
 #include "fretbem/io/run_output.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/study/ensemble.hpp"
+#include "fretbem/study/sweep.hpp"
 #include "fretbem/surface/surface.hpp"
 #include "fretbem/wear/integrator.hpp"
 
@@ -40,6 +41,9 @@ constexpr const char* kUsage =
     "  fretbem surface [SCENARIO.ini] [--set surface.key=value ...] --out FILE\n"
     "  fretbem ensemble SCENARIO.ini --hurst H1,H2,... [--seeds N] [--jobs J] [--bins B]\n"
     "                   [--set section.key=value ...] [--out DIR] [--quiet]\n"
+    "  fretbem sweep STUDY.ini [--jobs J] [--set section.key=value ...] [--out DIR] [--quiet]\n"
+    "                [--list | --member K | --aggregate]   (docs/sweep.md; under mpirun:\n"
+    "                members spread over the ranks, docs/cluster.md)\n"
     "  fretbem --help | --version\n\n"
     "Scenario keys, output columns and conventions: see README.md.\n";
 
@@ -54,8 +58,10 @@ struct Args {
   long stop_after = -1;
   std::vector<std::string> sets;
   bool quiet = false;
-  std::string hurst;                    // ensemble
-  int seeds = 20, jobs = 0, bins = 20;  // ensemble
+  std::string hurst;                     // ensemble
+  int seeds = 20, jobs = 0, bins = 20;   // ensemble (jobs also sweep)
+  bool list = false, aggregate = false;  // sweep
+  long member = -1;                      // sweep
 };
 
 Args parse_args(int argc, char** argv) {
@@ -64,6 +70,7 @@ Args parse_args(int argc, char** argv) {
       "out", po::value<std::string>(), "")("quiet,q", "")("resume", po::value<std::string>(), "")(
       "stop-after", po::value<long>(), "")("hurst", po::value<std::string>(), "")(
       "seeds", po::value<int>(), "")("jobs", po::value<int>(), "")("bins", po::value<int>(), "")(
+      "list", "")("aggregate", "")("member", po::value<long>(), "")(
       "positional", po::value<std::vector<std::string>>(), "");
   po::positional_options_description pos;
   pos.add("positional", -1);
@@ -84,6 +91,11 @@ Args parse_args(int argc, char** argv) {
   if (vm.count("seeds")) a.seeds = vm["seeds"].as<int>();
   if (vm.count("jobs")) a.jobs = vm["jobs"].as<int>();
   if (vm.count("bins")) a.bins = vm["bins"].as<int>();
+  a.list = vm.count("list") > 0, a.aggregate = vm.count("aggregate") > 0;
+  if (vm.count("member")) {
+    a.member = vm["member"].as<long>();
+    if (a.member < 0) throw InputError("--member must be a member index >= 0");
+  }
   const auto p = vm.count("positional") ? vm["positional"].as<std::vector<std::string>>()
                                         : std::vector<std::string>{};
   if (a.command.empty()) {
@@ -244,6 +256,16 @@ int cmd_ensemble(const Args& a) {
   return failed ? 4 : 0;
 }
 
+// Exit 4 when members failed, 143 when a signal stopped the study (sweep.csv written anyway).
+int cmd_sweep(const Args& a) {
+  if (a.scenario.empty()) throw InputError("sweep: no study file given");
+  SweepCommand c;
+  c.study = a.scenario, c.sets = a.sets, c.out = a.out;
+  c.list = a.list, c.member = a.member, c.aggregate = a.aggregate;
+  c.options.jobs = a.jobs, c.options.quiet = a.quiet;
+  return run_sweep_command(c);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -255,7 +277,8 @@ int main(int argc, char** argv) {
     if (a.command == "check") return cmd_check(a);
     if (a.command == "surface") return cmd_surface(a);
     if (a.command == "ensemble") return cmd_ensemble(a);
-    throw InputError("unknown command '" + a.command + "' (run, check, surface, ensemble)");
+    if (a.command == "sweep") return cmd_sweep(a);
+    throw InputError("unknown command '" + a.command + "' (run, check, surface, ensemble, sweep)");
   } catch (const InputError& e) {
     std::fprintf(stderr, "fretbem: error: %s\n", e.what());
     return 2;

@@ -1,14 +1,15 @@
 #include "fretbem/history/model.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-#include <thread>
 
 #include "fretbem/core/errors.hpp"
+<<<<<<< HEAD
 #include "fretbem/core/format.hpp"
+=======
+#include "fretbem/core/resources.hpp"
+>>>>>>> main
 
 namespace fretbem {
 
@@ -77,11 +78,11 @@ double estimated_peak_bytes(const Scenario& sc) {
   return (two ? 900.0 : 600.0) * cells + 64.0 * (1 << 20);
 }
 
+// Against what the process may use: inside a batch job (Slurm, containers) the cgroup limit is
+// smaller than the node's RAM, and exceeding it kills the job instead of failing cleanly.
 void check_memory(const Scenario& sc) {
-  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-  if (pages <= 0 || page <= 0) return;  // unknown: let the allocator decide
-  const double have = double(pages) * double(page), need = estimated_peak_bytes(sc);
-  if (need <= have) return;
+  const double have = usable_memory_bytes(), need = estimated_peak_bytes(sc);
+  if (have <= 0 || need <= have) return;  // unknown: let the allocator decide
   std::ostringstream msg;
   msg.precision(3);
   msg << "grid " << sc.grid.nx << " x " << sc.grid.ny << " needs about " << need / (1 << 30)
@@ -89,11 +90,12 @@ void check_memory(const Scenario& sc) {
   throw InputError(msg.str());
 }
 
-// solver.threads = 0: all cores from n = 512 up, where the 2n x 2n transforms are large enough
-// for threads to pay; one thread below (threads cost more than they save on small grids).
+// solver.threads = 0: all usable cores (affinity mask, SLURM_CPUS_PER_TASK) from n = 512 up, where
+// the 2n x 2n transforms are large enough for threads to pay; one thread below (threads cost more
+// than they save on small grids).
 int default_threads(const Grid& g) {
   if (std::max(g.nx, g.ny) < 512) return 1;
-  return int(std::max(1u, std::thread::hardware_concurrency()));
+  return usable_cpus();
 }
 
 std::unique_ptr<Model> build_model(const Scenario& sc) {

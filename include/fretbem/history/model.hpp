@@ -4,11 +4,11 @@
 
 #include <memory>
 
-#include "fretbem/history/load_path.hpp"
 #include "fretbem/contact/normal_solver.hpp"
-#include "fretbem/scenario/scenario.hpp"
 #include "fretbem/contact/stiffness.hpp"
 #include "fretbem/contact/tangential_solver.hpp"
+#include "fretbem/history/load_path.hpp"
+#include "fretbem/scenario/scenario.hpp"
 #include "fretbem/wear/law.hpp"
 
 namespace fretbem {
@@ -32,10 +32,12 @@ std::unique_ptr<Model> build_model(const Scenario& sc);
 /// Upper estimate of the peak memory (bytes) of a run of this scenario, from the grid alone:
 /// calibrated on peak RSS measured with /usr/bin/time -v (docs/performance.md, "Memory").
 double estimated_peak_bytes(const Scenario& sc);
-/// Throws InputError (one line) when the estimate exceeds the machine's physical memory: a grid
+/// Throws InputError (one line) when the estimate exceeds the memory this process may use (the
+/// smaller of physical memory and its cgroup limit, core/resources.hpp): a grid
 /// that cannot fit is refused before anything large is allocated. build_model calls it.
 void check_memory(const Scenario& sc);
-/// FFT threads for solver.threads = 0: one below n = 512, all cores from there up.
+/// FFT threads for solver.threads = 0: one below n = 512, all usable CPUs (usable_cpus) from
+/// there up.
 int default_threads(const Grid& grid);
 /// The surface a scenario describes (generated, or loaded and checked against the grid).
 Field make_surface(const Scenario& sc);

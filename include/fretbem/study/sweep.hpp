@@ -1,0 +1,28 @@
+// `fretbem sweep STUDY.ini` (issue 15): run a study's members (serially in this process's job
+// slots, or spread over MPI ranks), list their commands, run one, or aggregate what finished.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "fretbem/study/sweep_runner.hpp"
+
+namespace fretbem {
+
+struct SweepCommand {
+  std::filesystem::path study;
+  std::vector<std::string> sets;  ///< --set, after the study file's own fixed overrides
+  std::filesystem::path out;      ///< --out, replaces study.out
+  bool list = false;              ///< --list: print one member command per line
+  long member = -1;               ///< --member K: run member K only
+  bool aggregate = false;         ///< --aggregate: write sweep.csv from what finished
+  SweepOptions options;
+};
+
+/// Exit status: 0 all members ok (or listed/aggregated), 4 some failed, 143 (128 + SIGTERM)
+/// when a signal ended the study (sweep.csv is written all the same). InputError on a bad
+/// study file or options.
+int run_sweep_command(const SweepCommand& cmd);
+
+}  // namespace fretbem

@@ -1,0 +1,81 @@
+#include "fretbem/core/resources.hpp"
+
+#include <sched.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cstdlib>
+#include <fstream>
+#include <thread>
+
+namespace fretbem {
+
+namespace {
+
+std::optional<double> read_positive(const std::string& text) {
+  double v = 0;
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (r.ec != std::errc() || !(v > 0)) return std::nullopt;
+  return v;
+}
+
+std::string first_line(const std::string& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
+// The cgroup v2 path of this process ("0::/user.slice/..." in /proc/self/cgroup); empty when
+// the process sits at the root or the file is missing (containers usually see "/").
+std::string own_cgroup_v2_path() {
+  std::ifstream in("/proc/self/cgroup");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("0::", 0) == 0) return line.substr(3);
+  return "";
+}
+
+}  // namespace
+
+std::optional<int> slurm_cpus_per_task() {
+  const char* s = std::getenv("SLURM_CPUS_PER_TASK");
+  if (!s) return std::nullopt;
+  int v = 0;
+  const std::string t(s);
+  const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (r.ec != std::errc() || r.ptr != t.data() + t.size() || v < 1) return std::nullopt;
+  return v;
+}
+
+int usable_cpus() {
+  int n = 0;
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0) n = CPU_COUNT(&set);
+  if (n < 1) n = int(std::thread::hardware_concurrency());
+  if (const auto slurm = slurm_cpus_per_task()) n = n > 0 ? std::min(n, *slurm) : *slurm;
+  return std::max(1, n);
+}
+
+std::optional<double> cgroup_memory_limit(const std::string& root) {
+  // cgroup v2: the own group's memory.max, else the root's (a container's namespace root).
+  for (const std::string& dir : {root + own_cgroup_v2_path(), root}) {
+    const std::string v2 = first_line(dir + "/memory.max");
+    if (!v2.empty()) return v2 == "max" ? std::nullopt : read_positive(v2);
+  }
+  // cgroup v1: "no limit" reads as a page-rounded 2^63 - 1.
+  const auto v1 = read_positive(first_line(root + "/memory/memory.limit_in_bytes"));
+  if (v1 && *v1 < 0x1p62) return v1;
+  return std::nullopt;
+}
+
+double usable_memory_bytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  const double phys = pages > 0 && page > 0 ? double(pages) * double(page) : 0.0;
+  const auto limit = cgroup_memory_limit();
+  if (!limit) return phys;
+  return phys > 0 ? std::min(phys, *limit) : *limit;
+}
+
+}  // namespace fretbem

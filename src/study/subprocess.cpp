@@ -1,0 +1,63 @@
+#include "fretbem/study/subprocess.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <cerrno>
+#include <fstream>
+
+extern char** environ;
+
+namespace fretbem {
+
+pid_t spawn_logged(const std::vector<std::string>& args, const std::filesystem::path& log) {
+  std::vector<std::string> copy = args;
+  std::vector<char*> argv;
+  for (auto& s : copy) argv.push_back(s.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+  posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  pid_t pid = -1;
+  const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  return rc == 0 ? pid : -1;
+}
+
+namespace {
+
+int exit_code(int status) {
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+}  // namespace
+
+std::optional<int> poll_child(pid_t pid) {
+  int status = 0;
+  const pid_t r = waitpid(pid, &status, WNOHANG);
+  if (r == pid) return exit_code(status);
+  if (r < 0 && errno != EINTR) return 127;  // not our child (any more): count it as failed
+  return std::nullopt;
+}
+
+int wait_child(pid_t pid) {
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return 127;
+  return exit_code(status);
+}
+
+std::string last_line(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (line.find_first_not_of(" \r\t") != std::string::npos) last = line;
+  // The progress line ends in '\r' redraws: keep what follows the last one.
+  if (const auto cr = last.find_last_of('\r'); cr != std::string::npos && cr + 1 < last.size())
+    last = last.substr(cr + 1);
+  return last.empty() ? "(no output)" : last;
+}
+
+}  // namespace fretbem

@@ -1,0 +1,91 @@
+#include "fretbem/study/sweep.hpp"
+
+#include <cstdio>
+#include <iostream>
+
+#include "fretbem/core/errors.hpp"
+#include "fretbem/study/mpi_queue.hpp"
+#include "fretbem/study/sweep_aggregate.hpp"
+
+namespace fretbem {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kExitFailed = 4, kExitStopped = 128 + 15;
+
+// Single-quoted for a POSIX shell unless the word is plainly safe.
+std::string shell_word(const std::string& w) {
+  if (!w.empty() && w.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                        "0123456789_-+=.,/:@%") == std::string::npos)
+    return w;
+  std::string q = "'";
+  for (char c : w) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// One `fretbem sweep STUDY --member K` line per member, with absolute paths, so that a Slurm
+// array task or GNU parallel runs it from any directory.
+void print_member_commands(const SweepCommand& cmd, const SweepSpec& spec) {
+  for (std::size_t k = 0; k < spec.members.size(); ++k) {
+    std::string line = shell_word(cmd.options.binary.string()) + " sweep " +
+                       shell_word(fs::absolute(cmd.study).lexically_normal().string()) +
+                       " --member " + std::to_string(k) + " --out " + shell_word(spec.out.string());
+    for (const auto& s : cmd.sets) line += " --set " + shell_word(s);
+    std::puts(line.c_str());
+  }
+}
+
+int aggregate(const SweepSpec& spec, bool quiet) {
+  const SweepTally t = write_sweep_csv(spec);
+  if (!quiet || t.failed)
+    std::fprintf(stderr, "fretbem sweep: %d ok, %d failed, %d not run of %zu; %s\n", t.ok, t.failed,
+                 t.missing, spec.members.size(), (spec.out / "sweep.csv").c_str());
+  return t.failed ? kExitFailed : 0;
+}
+
+std::vector<std::size_t> one_member(const SweepSpec& spec, long k) {
+  if (k < 0 || std::size_t(k) >= spec.members.size())
+    throw InputError("--member " + std::to_string(k) + ": the study has members 0.." +
+                     std::to_string(spec.members.size() - 1));
+  if (member_complete(spec, std::size_t(k))) return {};
+  return {std::size_t(k)};
+}
+
+}  // namespace
+
+int run_sweep_command(const SweepCommand& c) {
+  SweepCommand cmd = c;
+  if (cmd.options.jobs < 0) throw InputError("--jobs: must be >= 1");
+  if (int(cmd.list) + int(cmd.member >= 0) + int(cmd.aggregate) > 1)
+    throw InputError("sweep: --list, --member and --aggregate exclude each other");
+  if (cmd.options.binary.empty()) cmd.options.binary = fs::read_symlink("/proc/self/exe");
+  const SweepSpec spec = load_sweep_spec(cmd.study, cmd.sets, cmd.out);
+  if (cmd.list) return print_member_commands(cmd, spec), 0;
+  if (cmd.aggregate) return aggregate(spec, cmd.options.quiet);
+  fs::create_directories(spec.out);
+  install_sweep_signal_handlers();
+  if (cmd.member >= 0) {
+    auto queue = make_local_queue(one_member(spec, cmd.member));
+    if (!run_sweep_members(spec, *queue, cmd.options)) return kExitStopped;
+    return member_complete(spec, std::size_t(cmd.member)) ? 0 : kExitFailed;
+  }
+  if (!mpi_launched()) {
+    auto queue = make_local_queue(pending_members(spec));
+    const bool finished = run_sweep_members(spec, *queue, cmd.options);
+    const int rc = aggregate(spec, cmd.options.quiet);
+    return finished ? rc : kExitStopped;
+  }
+  MpiSession mpi;
+  cmd.options.label = "fretbem sweep[rank " + std::to_string(mpi.rank()) + "]";
+  // Only rank 0 decides what is pending: the others must not race it reading status files.
+  auto queue =
+      make_mpi_queue(mpi, mpi.rank() == 0 ? pending_members(spec) : std::vector<std::size_t>{});
+  const bool finished = run_sweep_members(spec, *queue, cmd.options);
+  mpi.barrier();
+  const int rc = mpi.rank() == 0 ? aggregate(spec, cmd.options.quiet) : 0;
+  return finished ? rc : kExitStopped;
+}
+
+}  // namespace fretbem

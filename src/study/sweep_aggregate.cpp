@@ -1,0 +1,114 @@
+#include "fretbem/study/sweep_aggregate.hpp"
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+
+#include "fretbem/core/csv_reader.hpp"
+#include "fretbem/core/format.hpp"
+#include "fretbem/study/sweep_runner.hpp"
+
+namespace fretbem {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The time-series columns a member's summary repeats from its last row, as final_<name>.
+const std::vector<std::string> kFinalColumns{
+    "Fx", "Ux", "kx", "contact_area", "stick_area", "slip_area", "dissipation", "wear_volume"};
+
+// Header and last data row of a CSV file, as text: values are copied, never re-printed, so
+// sweep.csv carries exactly the digits the member wrote (csv::read_table would parse them).
+std::pair<std::vector<std::string>, std::vector<std::string>> header_and_last_row(
+    const fs::path& file) {
+  std::ifstream in(file);
+  std::string header, line, last;
+  if (!std::getline(in, header)) return {};
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  if (last.empty()) return {};
+  return {csv::split_line(header), csv::split_line(last)};
+}
+
+using Summary = std::vector<std::pair<std::string, std::string>>;  // column, text
+
+Summary member_summary(const fs::path& dir) {
+  Summary s;
+  const auto [ch, cr] = header_and_last_row(dir / "cycles.csv");
+  for (std::size_t i = 0; i < ch.size() && i < cr.size(); ++i) s.emplace_back(ch[i], cr[i]);
+  const auto [th, tr] = header_and_last_row(dir / "timeseries.csv");
+  for (const auto& name : kFinalColumns)
+    for (std::size_t i = 0; i < th.size() && i < tr.size(); ++i)
+      if (th[i] == name) s.emplace_back("final_" + name, tr[i]);
+  return s;
+}
+
+// RFC 4180 quoting for the free-text error column.
+std::string quoted(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string q = "\"";
+  for (char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+std::string status_word(const MemberStatus& st, bool complete) {
+  if (complete) return "ok";
+  if (!st.present) return "missing";
+  if (member_running(st)) return "running";
+  if (member_stopped(st)) return "interrupted";
+  return st.exit_code == 0 ? "missing" : "failed";
+}
+
+}  // namespace
+
+SweepTally write_sweep_csv(const SweepSpec& spec) {
+  struct Row {
+    MemberStatus status;
+    std::string word;
+    Summary summary;
+  };
+  std::vector<Row> rows;
+  std::vector<std::string> columns;  // summary columns in order of first appearance
+  SweepTally tally;
+  for (std::size_t k = 0; k < spec.members.size(); ++k) {
+    const fs::path dir = spec.out / spec.member_dir(k);
+    Row r{read_member_status(dir), "", {}};
+    const bool complete = member_complete(spec, k);
+    r.word = status_word(r.status, complete);
+    if (complete) r.summary = member_summary(dir);
+    tally.ok += complete, tally.failed += r.word == "failed";
+    tally.missing += r.word != "ok" && r.word != "failed";
+    for (const auto& [name, v] : r.summary)
+      if (std::find(columns.begin(), columns.end(), name) == columns.end()) columns.push_back(name);
+    rows.push_back(std::move(r));
+  }
+  fs::create_directories(spec.out);
+  const fs::path tmp = spec.out / "sweep.csv.tmp";
+  {
+    std::ofstream out(tmp);
+    out << "member,dir";
+    for (const auto& a : spec.axes) out << ',' << a.key;
+    out << ",status,exit_code,seconds,error";
+    for (const auto& c : columns) out << ',' << c;
+    out << '\n';
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const Row& r = rows[k];
+      out << k << ',' << spec.member_dir(k).string();
+      for (const auto& v : spec.members[k]) out << ',' << quoted(v);
+      out << ',' << r.word << ',';
+      if (r.status.present)
+        out << r.status.exit_code << ',' << format_number(r.status.seconds);
+      else
+        out << ',';
+      out << ',' << quoted(r.status.error);
+      std::map<std::string, std::string> by_name(r.summary.begin(), r.summary.end());
+      for (const auto& c : columns) out << ',' << (by_name.count(c) ? by_name[c] : "");
+      out << '\n';
+    }
+  }
+  fs::rename(tmp, spec.out / "sweep.csv");
+  return tally;
+}
+
+}  // namespace fretbem
