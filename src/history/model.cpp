@@ -5,11 +5,8 @@
 #include <sstream>
 
 #include "fretbem/core/errors.hpp"
-<<<<<<< HEAD
 #include "fretbem/core/format.hpp"
-=======
 #include "fretbem/core/resources.hpp"
->>>>>>> main
 
 namespace fretbem {
 
