@@ -119,7 +119,7 @@ TEST(Scenario, GoodFileGivesSIValuesAndDefaults) {
   EXPECT_DOUBLE_EQ(s.solver.tolerance, 1e-8);
   EXPECT_EQ(s.solver.coupling, fretbem::Coupling::cerruti);
   EXPECT_EQ(s.solver.threads, 2);
-  EXPECT_FALSE(s.solver.stiffness);
+  EXPECT_EQ(s.solver.stiffness, fretbem::StiffnessMode::none);
   EXPECT_EQ(s.solver.max_iterations, 5000);
   EXPECT_EQ(s.output.fields, (std::vector<std::string>{"pressure", "state"}));
   EXPECT_EQ(s.output.dir, fs::path("out"));
@@ -184,7 +184,8 @@ TEST(Scenario, OverridesWinAndAddKeys) {
   EXPECT_TRUE(s.grid.periodic);
   EXPECT_TRUE(s.solver.fft_measure);
   EXPECT_EQ(s.solver.precondition, fretbem::Precondition::automatic);
-  EXPECT_EQ(parse(kGood, {"solver.precondition=off"}).solver.precondition, fretbem::Precondition::off);
+  EXPECT_EQ(parse(kGood, {"solver.precondition=off"}).solver.precondition,
+            fretbem::Precondition::off);
   const Scenario on = parse(kGood, {"solver.precondition=on"});
   EXPECT_EQ(on.solver.precondition, fretbem::Precondition::on);
   EXPECT_EQ(parse(on.resolved_text).solver.precondition, fretbem::Precondition::on);

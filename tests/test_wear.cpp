@@ -8,8 +8,8 @@
 #include <numbers>
 
 #include "fretbem/history/model.hpp"
-#include "fretbem/scenario/scenario.hpp"
 #include "fretbem/history/stepper.hpp"
+#include "fretbem/scenario/scenario.hpp"
 #include "fretbem/wear/integrator.hpp"
 
 using namespace fretbem;
@@ -306,4 +306,20 @@ TEST(WearGrossSlip, WholeContactWearsVolumeLinear) {
       "radius %.3g -> %.3g m, peak p %.3g -> %.3g Pa\n",
       r.rep.simulated_cycles, slope / (k * kP * 4 * D), hist.front().contact_radius,
       hist.back().contact_radius, hist.front().peak_pressure, hist.back().peak_pressure);
+}
+
+// Without wear.atol the absolute tolerance is rtol x the indentation of the unworn surface
+// (issue 12): the same run as with that value given in metres (the indentation is the first
+// row's delta at constant normal force), to the bit.
+TEST(WearIntegrators, DefaultAbsoluteToleranceIsRtolTimesIndentation) {
+  std::string text = partial_slip(32, 2e-12, 300, "dirk");
+  const std::string atol = "atol = 1e-11\n";
+  text.erase(text.find(atol), atol.size());
+  WearRun a = run(text);
+  char given[64];
+  std::snprintf(given, sizeof given, "atol = %.17g\n", 1e-3 * a.rep.history.front().delta);
+  WearRun b = run(text + given);
+  ASSERT_GT(a.rep.worn.maxCoeff(), 0.0);
+  EXPECT_EQ((a.rep.worn - b.rep.worn).abs().maxCoeff(), 0.0);
+  EXPECT_EQ(a.rep.simulated_cycles, b.rep.simulated_cycles);
 }

@@ -249,6 +249,14 @@ TEST(WearResume, ErkStopAndResumeWithinTolerance) {
     prev = r[b.col("N")];
   }
   EXPECT_EQ(prev, 300.0);
+  // The resumed run's rows are the uninterrupted run's, the first row after the resume (the
+  // state of the checkpoint) accepted as it is there (issue 14 item 11: it was 0).
+  const Csv a = read_csv(full / "cycles.csv");
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  for (std::size_t k = 0; k < a.rows.size(); ++k) {
+    EXPECT_EQ(a.rows[k][a.col("accepted")], b.rows[k][b.col("accepted")]) << "row " << k;
+    EXPECT_NEAR(a.rows[k][a.col("N")], b.rows[k][b.col("N")], 1e-9 * 300) << "row " << k;
+  }
   fs::remove_all(full);
   fs::remove_all(part);
 }

@@ -1,55 +1,127 @@
 #include "fretbem/contact/stiffness.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
+#include "fretbem/contact/tangential_solver.hpp"
 #include "fretbem/core/errors.hpp"
 
 namespace fretbem {
 
-StiffnessSolver::StiffnessSolver(TangentialOperator& op, double tolerance, int max_iterations)
-    : op_(op), tol_(tolerance), max_it_(max_iterations) {
+namespace {
+
+// Recently solved stick sets kept for reuse: a cycle meets the full contact (after each
+// reversal) and the turning-point sets of both signs; four covers them with room to spare.
+constexpr std::size_t kKnownSets = 4;
+
+}  // namespace
+
+StiffnessSolver::StiffnessSolver(TangentialOperator& op, double tolerance, int max_iterations,
+                                 Precondition precondition)
+    : op_(op), tol_(tolerance), max_it_(max_iterations), precondition_(precondition) {
   op_.half_space().require_tolerance(tol_, "stiffness solver");
+}
+
+bool StiffnessSolver::preconditioned(const std::vector<std::uint8_t>& stick) const {
+  if (precondition_ != Precondition::automatic) return precondition_ == Precondition::on;
+  const Grid& g = op_.grid();
+  Field set(g.nx, g.ny);
+  for (Eigen::Index k = 0; k < set.size(); ++k) set(k) = stick[std::size_t(k)];
+  return largest_contact_patch(set) >= ProjectedCgSolver::kPatchNodes;
+}
+
+// psi_ restricted to the new stick set, and u_ = C psi_ brought along: the nodes that left the
+// set lose their psi by a sparse direct-sum update when they are few (a stick set shrinking
+// under monotone loading), by one product otherwise. Nodes that joined start from zero.
+void StiffnessSolver::warm_start(const std::vector<std::uint8_t>& stick) {
+  const int nc = op_.components();
+  if (psi_.size() != std::size_t(nc)) {
+    psi_ = op_.zeros(), u_ = op_.zeros();
+    psi_set_.assign(stick.size(), 0);
+  }
+  std::vector<std::int64_t> idx;
+  std::vector<std::vector<double>> val(nc);
+  for (std::size_t k = 0; k < stick.size(); ++k) {
+    if (!psi_set_[k] || stick[k]) continue;
+    bool nonzero = false;
+    for (int c = 0; c < nc; ++c) nonzero |= psi_[c](Eigen::Index(k)) != 0.0;
+    if (!nonzero) continue;
+    idx.push_back(std::int64_t(k));
+    for (int c = 0; c < nc; ++c) {
+      val[c].push_back(-psi_[c](Eigen::Index(k)));
+      psi_[c](Eigen::Index(k)) = 0.0;
+    }
+  }
+  // Incremental updates drift by round-off; an exact product every so often bounds it.
+  if (++solves_ % 32 == 0)
+    op_.apply(psi_, u_);
+  else
+    op_.add_sparse(idx, val, psi_, u_);
+  psi_set_ = stick;
 }
 
 StiffnessResult StiffnessSolver::solve(const StateField& state) {
   const int nc = op_.components();
-  const Field stick = (state == std::uint8_t(NodeState::stick)).cast<double>();
   StiffnessResult res;
-  const double nstick = stick.sum();
-  if (nstick == 0.0) return res;  // full sliding: no stiffness
-  // k_x depends on the stick set alone: an unchanged set (a skipped step, a steady stretch)
-  // needs no new solve.
-  if (last_stick_.size() == stick.size() && (last_stick_ == stick).all()) {
-    res.kx = last_kx_;
-    return res;
+  std::vector<std::uint8_t> stick(std::size_t(state.size()));
+  nodes_.clear();
+  for (Eigen::Index k = 0; k < state.size(); ++k) {
+    stick[std::size_t(k)] = state(k) == std::uint8_t(NodeState::stick);
+    if (stick[std::size_t(k)]) nodes_.push_back(k);
   }
-  if (psi_.size() != std::size_t(nc)) psi_ = op_.zeros();
-  for (auto& p : psi_) p *= stick;
-  op_.apply(psi_, u_);
-  // Unit shift along x: component 0 in both the 1-D (analogy, decoupled) and 2-D bases.
-  r_.resize(nc);
-  double rr = 0.0, rr_old = 1.0;
-  const double bnorm = std::sqrt(nstick);
-  d_ = op_.zeros();
-  for (int it = 0;; ++it) {
-    rr = 0.0;
-    for (int c = 0; c < nc; ++c) {
-      r_[c] = stick * ((c == 0 ? 1.0 : 0.0) - u_[c]);
-      rr += r_[c].square().sum();
+  if (nodes_.empty()) return res;  // full sliding: no stiffness
+  // k_x depends on the stick set alone: a set met recently (an unchanged step, the full
+  // contact after a reversal) needs no new solve.
+  for (const Known& kn : known_)
+    if (kn.stick == stick) {
+      res.kx = kn.kx;
+      res.reused = true;
+      return res;
     }
+  warm_start(stick);
+  const bool pre = res.preconditioned = preconditioned(stick);
+  // r_ and d_ are zero off the stick set: the preconditioner and the product read them whole.
+  r_ = op_.zeros(), d_ = op_.zeros();
+  if (pre) z_.resize(nc);
+  const double bnorm = std::sqrt(double(nodes_.size()));
+  double G = 0.0, G_old = 1.0;
+  for (int it = 0;; ++it) {
+    // Residual r = S (e_x - C psi): a unit shift along x (component 0 in both bases).
+    double rr = 0.0;
+    for (const Eigen::Index k : nodes_)
+      for (int c = 0; c < nc; ++c) {
+        const double r = (c == 0 ? 1.0 : 0.0) - u_[c](k);
+        r_[c](k) = r, rr += r * r;
+      }
     res.iterations = it;
     res.residual = std::sqrt(rr) / bnorm;
     if (res.residual <= tol_ || it >= max_it_) break;
-    const double beta = it == 0 ? 0.0 : rr / rr_old;
-    rr_old = rr;
-    for (int c = 0; c < nc; ++c) d_[c] = r_[c] + beta * d_[c];
+    // Preconditioned CG (Vollebregt, J. Comput. Phys. 257, 2014): z = S K_z^-1 r; the analogy
+    // operator is (E*/G*) K_z and CG is blind to the factor; for Cerruti K_z^-1 per component
+    // is a spectrally equivalent SPD approximation (as in ProjectedCgSolver).
+    G = rr;
+    if (pre) {
+      G = 0.0;
+      for (int c = 0; c < nc; ++c) op_.half_space().normal_inverse(r_[c], z_[c]);
+      for (const Eigen::Index k : nodes_)
+        for (int c = 0; c < nc; ++c) G += r_[c](k) * z_[c](k);
+    }
+    const double beta = it == 0 ? 0.0 : G / G_old;
+    G_old = G;
+    const VecField& z = pre ? z_ : r_;
+    for (const Eigen::Index k : nodes_)
+      for (int c = 0; c < nc; ++c) d_[c](k) = z[c](k) + beta * d_[c](k);
     op_.apply(d_, q_);
     double den = 0.0;
-    for (int c = 0; c < nc; ++c) den += (stick * q_[c] * d_[c]).sum();
-    if (!(den > 0.0)) break;
-    const double alpha = rr / den;
-    for (int c = 0; c < nc; ++c) psi_[c] += alpha * d_[c], u_[c] += alpha * q_[c];
+    for (const Eigen::Index k : nodes_)
+      for (int c = 0; c < nc; ++c) den += q_[c](k) * d_[c](k);
+    if (!(den > 0.0) || !(G > 0.0)) break;
+    const double alpha = G / den;
+    for (const Eigen::Index k : nodes_)
+      for (int c = 0; c < nc; ++c) psi_[c](k) += alpha * d_[c](k);
+    // u_ on the whole grid: the next step's stick set may reach beyond this one.
+    for (int c = 0; c < nc; ++c) u_[c] += alpha * q_[c];
   }
   if (!(res.residual <= tol_)) {
     std::ostringstream msg;
@@ -58,8 +130,8 @@ StiffnessResult StiffnessSolver::solve(const StateField& state) {
     throw SolverError(msg.str());
   }
   res.kx = psi_[0].sum() * op_.grid().cell_area();
-  last_stick_ = stick;
-  last_kx_ = res.kx;
+  known_.push_front({std::move(stick), res.kx});
+  if (known_.size() > kKnownSets) known_.pop_back();
   return res;
 }
 

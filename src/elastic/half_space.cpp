@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/elastic/fft_wisdom.hpp"
 #include "fretbem/elastic/love.hpp"
 
 namespace fretbem {
@@ -150,12 +151,30 @@ struct Engine {
     init_fftw_threads<Real>();
     std::lock_guard lock(planner_mutex());
     Api::plan_with_nthreads(std::max(1, opt.threads));
-    // r2c must preserve its input: the zero padding of rin is written once and relied on.
-    const unsigned rigour = opt.measure ? FFTW_MEASURE : FFTW_ESTIMATE;
-    forward = Api::plan_r2c(n0, n1, rin.get(), c1.get(), rigour | FFTW_PRESERVE_INPUT);
-    inverse = Api::plan_c2r(n0, n1, c1.get(), rout.get(), rigour | FFTW_DESTROY_INPUT);
+    if (opt.measure)
+      plan_measured();
+    else
+      plan(FFTW_ESTIMATE);
     if (!forward || !inverse) throw std::runtime_error("FFTW could not create a plan");
     std::fill(rin.get(), rin.get() + nr, Real(0));  // MEASURE may have scribbled on it
+  }
+  // r2c must preserve its input: the zero padding of rin is written once and relied on.
+  void plan(unsigned rigour) {
+    forward = Api::plan_r2c(n0, n1, rin.get(), c1.get(), rigour | FFTW_PRESERVE_INPUT);
+    inverse = Api::plan_c2r(n0, n1, c1.get(), rout.get(), rigour | FFTW_DESTROY_INPUT);
+  }
+  // MEASURE plans from the wisdom file when it has this size and thread count; measured (and
+  // the file updated) otherwise. Same wisdom, same plan: results repeat bit for bit.
+  void plan_measured() {
+    constexpr FftPrecision precision =
+        std::is_same_v<Real, float> ? FftPrecision::float32 : FftPrecision::float64;
+    fft_wisdom::load(precision);
+    plan(FFTW_MEASURE | FFTW_WISDOM_ONLY);
+    if (forward && inverse) return;
+    if (forward) Api::destroy(forward);
+    if (inverse) Api::destroy(inverse);
+    plan(FFTW_MEASURE);
+    fft_wisdom::save(precision);
   }
   ~Engine() {
     std::lock_guard lock(planner_mutex());
@@ -187,7 +206,9 @@ struct Engine {
   void c2r(Complex* in) { Api::c2r(inverse, in, rout.get()); }
 
   // out = s * in (circular convolution with the kernel whose spectrum is s).
-  void convolve(const Spectrum<Real>& s, const Field& in, Field& out, int nx, int ny) {
+  // `factor` multiplies the result as it is copied out (the analogy's E*/G*: no extra pass).
+  void convolve(const Spectrum<Real>& s, const Field& in, Field& out, int nx, int ny,
+                double factor = 1.0) {
     load(in);
     r2c(c1.get());
     const std::size_t ns = std::size_t(n0) * nc;
@@ -195,7 +216,7 @@ struct Engine {
     for (std::size_t k = 0; k < ns; ++k) c1[k][0] *= sv[k], c1[k][1] *= sv[k];
     c2r(c1.get());
     out.resize(nx, ny);
-    store(out, s.scale);
+    store(out, s.scale * factor);
   }
 
   // (ux, uy) = [sxx sxy; sxy syy] * (tx, ty): the Cerruti pair, two transforms each way.
@@ -427,8 +448,8 @@ void HalfSpace::normal_inverse(const Field& r, Field& z) {
 }
 
 void HalfSpace::tangential_analogy(const Field& t, Field& u) {
-  normal(t, u);
-  u *= ratio_;
+  fft_->visit([&](auto& E) { E.convolve(E.sz, t, u, grid_.nx, grid_.ny, ratio_); });
+  ++convolutions_;
 }
 
 void HalfSpace::tangential(const Field& tx, const Field& ty, Field& ux, Field& uy) {

@@ -95,6 +95,11 @@ int default_threads(const Grid& g) {
   return usable_cpus();
 }
 
+bool stiffness_wanted(const Model& model, int step, bool turning) {
+  if (!model.stiffness) return false;
+  return model.scenario.solver.stiffness == StiffnessMode::every || step == 0 || turning;
+}
+
 std::unique_ptr<Model> build_model(const Scenario& sc) {
   check_memory(sc);  // before the surface, kernels and FFT buffers are allocated
   auto m = std::make_unique<Model>();
@@ -124,11 +129,11 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
     m->tangential = std::make_unique<ProjectedCgSolver>(*m->tangential_operator, topt);
   // The stiffness solve's own floor of 1e-9 is raised to what float FFTs can reach: it is an
   // internal accuracy choice, not the user's tolerance (which is at least that floor).
-  if (sc.solver.stiffness)
+  if (sc.solver.stiffness != StiffnessMode::none)
     m->stiffness = std::make_unique<StiffnessSolver>(
         *m->tangential_operator,
         std::max({sc.solver.tolerance, 1e-9, m->half_space->min_tolerance()}),
-        sc.solver.max_iterations);
+        sc.solver.max_iterations, sc.solver.precondition);
   m->wear = make_wear_model(sc.wear);
   return m;
 }

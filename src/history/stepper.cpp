@@ -66,7 +66,7 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
   rec.Ux = state_.shift.x() + 0.0, rec.Uy = state_.shift.y() + 0.0;
   measure_areas(state_, op, rec);
   rec.kx = std::numeric_limits<double>::quiet_NaN();
-  if (model_.stiffness) rec.kx = model_.stiffness->solve(state_.state).kx;
+  if (stiffness_wanted(model_, k, ls.turning)) rec.kx = model_.stiffness->solve(state_.state).kx;
   rec.dissipation = dissipation_;
   rec.wear_volume = wear_volume_;
   rec.convolutions = int(hs.convolutions() - conv0);
@@ -145,12 +145,16 @@ void Stepper::shortcut_step(const LoadStep& ls, StepRecord& rec) {
   const double target = e.dot(ls.target * (ls.control == Control::force ? scale : 1.0));
   const double sign = target < 0.0 ? -1.0 : 1.0;
   NormalSolver& ns = *model_.normal;
+  // The previous step's corrective pressure p* = p - |tau| / mu warm-starts this one: on the
+  // monotone segment Q* changes by one increment (from p itself the solve starts a whole
+  // segment away: why the shortcut was slower than incremental steps, issue 13).
+  const Field p_star0 = (state_.pressure - state_.traction[0].abs() / mat.mu).max(0.0);
   const ShortcutResult r =
       ls.control == Control::force
           ? ciavarella_jaeger_force(ns, model_.surface, state_.pressure, state_.normal_force,
-                                    state_.indentation, mat.mu, ratio, std::abs(target))
+                                    state_.indentation, mat.mu, ratio, std::abs(target), &p_star0)
           : ciavarella_jaeger_shift(ns, model_.surface, state_.pressure, state_.indentation, mat.mu,
-                                    ratio, std::abs(target));
+                                    ratio, std::abs(target), &p_star0);
   const VecField u0 = state_.displacement;
   state_.traction[0] = sign * r.traction;
   op.apply(state_.traction, state_.displacement);

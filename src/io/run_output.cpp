@@ -72,7 +72,7 @@ TimeseriesCsv::TimeseriesCsv(const std::filesystem::path& dir, long resume_rows)
     : csv_(open_csv(dir, "timeseries", StepRecord::columns(), resume_rows)) {}
 
 void TimeseriesCsv::on_step(const StepRecord& rec, const InterfaceState&, const Model& m) {
-  check_finite(rec, m.stiffness != nullptr);
+  check_finite(rec, stiffness_wanted(m, rec.step, rec.turning));
   csv_.row(rec.values());
 }
 

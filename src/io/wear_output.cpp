@@ -128,16 +128,23 @@ WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume, long max
   if (!quiet) {
     const double V = rep.worn.sum() * model.scenario.grid.cell_area();
     const double s = model.scenario.wear.indenter_share;
+    const bool cycles = model.scenario.wear.integrator == WearIntegrator::cycle;
+    std::printf("fretbem: wear to N = %.6g with %.6g simulated cycles (%d wear-map evaluations",
+                rep.N, rep.simulated_cycles, rep.rhs_evaluations);
+    if (rep.retries > 0) std::printf("; %ld failed solves retried warm-started", rep.retries);
+    if (cycles)
+      std::printf(", cycle by cycle)\n");
+    else
+      std::printf(
+          "; %ld %s steps, %ld error-test failures, %ld Newton failures; %ld stretches of %.6g "
+          "cycles simulated one by one)\n",
+          rep.steps, rep.implicit ? "implicit (TR-BDF2)" : "explicit (ERK)", rep.rejected,
+          rep.newton_failures, rep.stretches, rep.stretch_cycles);
     std::printf(
-        "fretbem: wear to N = %.6g with %.6g simulated cycles (%d wear-map evaluations, "
-        "%ld %s integrator steps, %ld rejected)\n  worn volume: %.6g m^3 (indenter %.6g, "
-        "half-space %.6g)\n  cycles:      %s\n  time series: %s\n  fields:      %s\n",
-        rep.N, rep.simulated_cycles, rep.rhs_evaluations, rep.steps,
-        model.scenario.wear.integrator == WearIntegrator::cycle ? "cycle"
-        : rep.implicit                                          ? "implicit (SDIRK)"
-                                                                : "explicit (ERK)",
-        rep.rejected, V, s * V, (1.0 - s) * V, log.path().string().c_str(),
-        csv.path().string().c_str(), h5.path().string().c_str());
+        "  worn volume: %.6g m^3 (indenter %.6g, half-space %.6g)\n  cycles:      %s\n  time "
+        "series: %s\n  fields:      %s\n",
+        V, s * V, (1.0 - s) * V, log.path().string().c_str(), csv.path().string().c_str(),
+        h5.path().string().c_str());
   }
   return rep;
 }

@@ -106,7 +106,9 @@ void write_solver(IniWriter& w, const SolverSpec& s) {
   w.put("threads", s.threads);
   w.put("algorithm",
         std::string(s.algorithm == TangentialAlgorithm::projected ? "projected" : "partition"));
-  w.put("stiffness", s.stiffness);
+  w.put("stiffness", std::string(s.stiffness == StiffnessMode::every     ? "every"
+                                 : s.stiffness == StiffnessMode::turning ? "turning"
+                                                                         : "none"));
   w.put("fft_plan", std::string(s.fft_measure ? "measure" : "estimate"));
   w.put("fft_precision",
         std::string(s.fft_precision == FftPrecision::float32 ? "float" : "double"));
@@ -136,7 +138,7 @@ void write_wear(IniWriter& w, const WearSpec& s) {
   static const char* integrators[] = {"arkode", "cycle", "erk", "dirk"};
   w.put("integrator", std::string(integrators[static_cast<int>(s.integrator)]));
   w.put("rtol", s.rtol);
-  w.put("atol", s.atol);
+  w.put("atol", s.atol > 0 ? std::optional<double>(s.atol) : std::nullopt);  // 0: not given
   w.put("newton", std::string(s.newton == WearNewton::frozen ? "frozen" : "krylov"));
   w.put("indenter_share", s.indenter_share);
 }

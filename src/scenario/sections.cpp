@@ -212,6 +212,19 @@ void read_load(const Reader& r, const fs::path& base, LoadSpec& l) {
   check_amplitudes(r, l);
 }
 
+// solver.stiffness: every | turning | none, or the wave-1 booleans (true = every, false = none;
+// any spelling Reader::boolean takes). A value that is neither names the three modes.
+StiffnessMode read_stiffness(const Reader& r) {
+  static const std::vector<std::string> booleans = {"true",  "yes", "1", "on",
+                                                    "false", "no",  "0", "off"};
+  const std::string v = lower(r.raw("solver.stiffness"));
+  if (std::find(booleans.begin(), booleans.end(), v) != booleans.end())
+    return r.boolean("solver.stiffness") ? StiffnessMode::every : StiffnessMode::none;
+  static constexpr StiffnessMode modes[] = {StiffnessMode::every, StiffnessMode::turning,
+                                            StiffnessMode::none};
+  return modes[r.choice("solver.stiffness", {"every", "turning", "none"})];
+}
+
 void read_solver(const Reader& r, SolverSpec& s) {
   if (r.has("solver.tolerance"))
     s.tolerance = r.real_in("solver.tolerance", 0.0, true, 1e-2, false);
@@ -223,7 +236,7 @@ void read_solver(const Reader& r, SolverSpec& s) {
   if (r.has("solver.algorithm"))
     s.algorithm =
         static_cast<TangentialAlgorithm>(r.choice("solver.algorithm", {"projected", "partition"}));
-  if (r.has("solver.stiffness")) s.stiffness = r.boolean("solver.stiffness");
+  if (r.has("solver.stiffness")) s.stiffness = read_stiffness(r);
   if (r.has("solver.fft_plan"))
     s.fft_measure = r.choice("solver.fft_plan", {"estimate", "measure"}) == 1;
   if (r.has("solver.monotone"))

@@ -8,35 +8,91 @@
 
 namespace fretbem {
 
+namespace {
+
+// The steps after st[0] that a simulation needs: steps inside a monotone segment at constant
+// normal load are dropped, since there the incremental solution does not depend on the step
+// size and each node slips one way (Ciavarella–Jäger), so sum |s| over the segment is exact in
+// one step (DESIGN §2 "one big increment"). A sine period keeps its turning points and end.
+std::vector<LoadStep> merged(const std::vector<LoadStep>& st) {
+  LoadPath p{st};
+  std::vector<LoadStep> out;
+  std::size_t kept = 0;
+  for (std::size_t k = 1; k < st.size(); ++k)
+    if (k + 1 == st.size() || st[k].turning || !p.monotone(kept, k + 1)) {
+      out.push_back(st[k]);
+      kept = k;
+    }
+  return out;
+}
+
+// One period of a periodic path, closed (its last step repeats its first step's loads), times
+// as phases in [0, 1]. Sine: the path's first period (the path repeats it). Table: the whole
+// table is the period; when its last row does not repeat its first row's loads, a closing step
+// back to them ends the period. Turning points are those of the periodic path (the period's
+// end is one when the motion reverses into the next period).
+std::vector<LoadStep> one_period(const Scenario& sc, const LoadPath& path) {
+  const auto& all = path.steps;
+  const bool table = sc.load.path == PathType::table;
+  // Step 0 is the normal loading at zero tangential load; a table whose first row has a
+  // tangential load starts its period at step 1 (same time).
+  const std::size_t p0 = table && all.size() > 1 && all[1].time == all[0].time ? 1 : 0;
+  std::vector<LoadStep> st{all[p0]};
+  for (std::size_t k = p0 + 1; k < all.size(); ++k) {
+    if (!table && all[k].time > 1.0 + 1e-12) break;
+    st.push_back(all[k]);
+  }
+  if (!(st.back().normal == st.front().normal) || st.back().target != st.front().target) {
+    const double dt = st.size() > 1 ? st.back().time - st[st.size() - 2].time : 1.0;
+    LoadStep close = st.front();
+    close.time = st.back().time + dt;
+    st.push_back(close);
+  }
+  const double t0 = st.front().time, T = st.back().time - t0;
+  if (st.size() < 3 || !(T > 0.0))
+    throw InputError("load.table: a wear run needs a period of at least two rows after the first");
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    const Vec2 a = k > 0 ? Vec2(st[k].target - st[k - 1].target) : Vec2(Vec2::Zero());
+    const Vec2 b = Vec2(k + 1 < st.size() ? st[k + 1].target : st[1].target) - st[k].target;
+    st[k].turning = k > 0 && a.dot(b) < 0.0;
+    st[k].time = (st[k].time - t0) / T;
+  }
+  st.back().time = 1.0;
+  return st;
+}
+
+}  // namespace
+
 WearCycles::WearCycles(Model& model, Stepper& stepper, std::vector<Observer*> observers)
     : model_(model), stepper_(stepper), observers_(std::move(observers)) {
-  if (model.scenario.load.path != PathType::sine)
-    throw InputError("wear.law: a wear run needs a cyclic load (load.path = sine)");
-  const auto& steps = model.path.steps;
-  initial_ = steps.front();
-  // One period. Between turning points a sine load is monotone at constant normal load, where
-  // the incremental solution does not depend on the step size and each node slips one way
-  // (Ciavarella–Jäger), so sum |s| over a segment is exact in one step: only the turning
-  // points (and the period's end, for the carried cycles) are kept (DESIGN §2 "one big
-  // increment").
-  // (The path's last step is flagged turning for the field output; it is the period's end.)
-  for (std::size_t k = 1; k < steps.size() && steps[k].time <= 1.0 + 1e-12; ++k) {
-    const bool end = std::abs(steps[k].time - 1.0) < 1e-12;
-    if (steps[k].turning || end) cycle_.push_back(steps[k]);
-    if (end) cycle_.back().turning = false;
+  const PathType type = model.scenario.load.path;
+  if (type != PathType::sine && type != PathType::table)
+    throw InputError(
+        "wear.law: a wear run needs a periodic load (load.path = sine, or table: one period)");
+  initial_ = model.path.steps.front();
+  const std::vector<LoadStep> period = one_period(model.scenario, model.path);
+  cycle_ = merged(period);
+  // The virgin loading: from the period's start to its first turning point; a period without
+  // a reversal (only the normal load varies) to its end.
+  std::vector<LoadStep> virgin{period.front()};
+  for (std::size_t k = 1; k < period.size(); ++k) {
+    virgin.push_back(period[k]);
+    if (period[k].turning) break;
   }
-  turn_ = -1.0;
-  for (const auto& ls : cycle_) {
-    if (turn_ < 0.0) virgin_.push_back(ls);
-    if (turn_ < 0.0 && ls.turning) turn_ = ls.time;
-  }
-  if (turn_ <= 0.0 || turn_ >= 1.0) throw InputError("load.path: no turning point in a cycle");
+  turn_ = virgin.back().time;
+  virgin_ = merged(virgin);
+  if (period.front().target != initial_.target) virgin_.insert(virgin_.begin(), period.front());
   // The steady loop: from the first turning point through one period back to it.
-  for (const auto& ls : cycle_)
-    if (ls.time > turn_ && ls.turning) steady_.push_back(ls);
-  LoadStep back = virgin_.back();
-  back.time += 1.0;
-  steady_.push_back(back);
+  std::vector<LoadStep> loop(virgin.end() - 1, virgin.end());
+  for (const auto& ls : period)
+    if (ls.time > turn_) loop.push_back(ls);
+  for (std::size_t k = 1; k < virgin.size(); ++k) {
+    loop.push_back(virgin[k]);
+    loop.back().time += 1.0;
+  }
+  steady_ = merged(loop);
+  // The period's end is not a turning point for the carried cycles' field output.
+  cycle_.back().turning = false;
 }
 
 void WearCycles::start() {
@@ -45,7 +101,7 @@ void WearCycles::start() {
 
 StepRecord WearCycles::step(const LoadStep& ls, double time, bool emit) {
   const bool initial = &ls == &initial_;
-  StepRecord rec = stepper_.advance(ls, initial ? 0 : 1);
+  StepRecord rec = advance(ls, initial ? 0 : 1);
   rec.step = row_;
   rec.time = time;
   rec.cycle = int(std::floor(time + 1e-12));
@@ -55,10 +111,37 @@ StepRecord WearCycles::step(const LoadStep& ls, double time, bool emit) {
   return rec;
 }
 
+// WORKAROUND (issue 12, measurement 2) until the normal solver restarts itself (branch
+// solvers): the wear code's normal solves start cold, and Polonsky–Keer still stalls on some
+// worn conforming surfaces from either start (docs/wear.md, "Workarounds"). A failed step is
+// retried once from the state before it, its normal solve warm-started from the last converged
+// pressure; a second failure is the run's.
+StepRecord WearCycles::advance(const LoadStep& ls, int index) {
+  const InterfaceState before = stepper_.state();
+  const StepperMemory memory = stepper_.memory();
+  StepRecord rec;
+  try {
+    rec = stepper_.advance(ls, index);
+  } catch (const SolverError&) {
+    if (warm_.size() == 0) throw;
+    InterfaceState s = before;
+    s.pressure = warm_;
+    stepper_.restore(s, memory);
+    stepper_.surface_changed();
+    rec = stepper_.advance(ls, index);
+    ++retries_;
+  }
+  warm_ = stepper_.state().pressure;
+  return rec;
+}
+
 void WearCycles::fresh(const Field& worn) {
   model_.surface = model_.surface0 - worn;
+  // The normal solve starts cold (zero pressure): a warm start from another surface's
+  // pressure made the wear map depend on the evaluation order, and from a worn conforming
+  // annulus (thousands of nodes at p < 1e-3 p_max) it stalled Polonsky–Keer (issue 12,
+  // measurement 2).
   InterfaceState s = InterfaceState::zeros(*model_.tangential_operator);
-  s.pressure = stepper_.state().pressure;  // warm start of the normal solve only
   s.wear = worn;
   StepperMemory m = stepper_.memory();
   m.last_normal.reset();  // forces the normal re-solve on the new surface
@@ -84,6 +167,19 @@ WearCycle WearCycles::steady(double N, const Field& worn) {
   return c;
 }
 
+WearCycle WearCycles::continued(double N) {
+  WearCycle c = measure(N, steady_, double(index_) - turn_);
+  simulated_ += 1.0;
+  c.simulated = simulated_;
+  return c;
+}
+
+double WearCycles::initial_indentation() {
+  fresh(Field::Zero(model_.scenario.grid.nx, model_.scenario.grid.ny));
+  step(initial_, 0.0, false);
+  return stepper_.state().indentation;
+}
+
 void WearCycles::resume(const WearCounters& c) {
   simulated_ = c.simulated;
   evaluations_ = c.evaluations;
@@ -100,6 +196,13 @@ Field WearCycles::pressure_on(const Field& worn) {
 
 void WearCycles::apply(const Field& rate) {
   model_.surface -= rate;
+  // Cold start of the next normal solve (zero pressure), as in fresh(): warm-started from the
+  // pressure of a worn conforming annulus Polonsky–Keer stalled (issue 12, measurement 2).
+  // WORKAROUND until the normal solver restarts itself (branch solvers); the tractions are
+  // carried.
+  InterfaceState s = stepper_.state();
+  s.pressure.setZero();
+  stepper_.restore(s, stepper_.memory());
   stepper_.surface_changed();
 }
 

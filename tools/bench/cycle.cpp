@@ -1,87 +1,101 @@
-// Time per load cycle of the Mindlin–Deresiewicz fretting loop (issue 4 "Speed"): Hertz
+// Time per load cycle of the Mindlin–Deresiewicz fretting loop (issues 4 and 13 "Speed"): Hertz
 // sphere, contact radius L/4, force control +-0.6 mu F_z, 64 steps per cycle, at n = 128, 256,
-// 512. Reports the median wall time of a steady cycle, the convolutions it used, and that time
-// in units of one bare convolution measured in the same run (machine-independent).
-#include <algorithm>
-#include <chrono>
+// 512, with solver.stiffness = every, turning and none. Reports the median wall and process CPU
+// time of a steady (second) cycle, the convolutions it used, and the CPU time in units of one
+// bare convolution of the same padded size measured in the same run (machine-independent),
+// and per convolution the solvers performed (the overhead of their element-wise passes).
+// FFT plans as `fretbem run` makes them (MEASURE with wisdom), one thread.
+//
+// Usage: bench_cycle [--max-n N] [--repeats R] [--min-n N]
 #include <cstdio>
-#include <cstdlib>
+#include <ctime>
 #include <string>
 #include <vector>
 
+#include "bench_util.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
 
 using namespace fretbem;
-using Clock = std::chrono::steady_clock;
 
 namespace {
 
-std::string scenario(int n, bool stiffness) {
+std::string scenario(int n, const char* stiffness) {
   return "[material]\nE = 1\nnu = 0.3\nmu = 0.5\n[grid]\nn = " + std::to_string(n) +
          "\nlength = 1\n[surface]\ntype = sphere\nradius = 1\n[load]\nnormal_force = " +
          std::to_string(4.0 / 3.0 / 0.91 * 0.25 * 0.25 * 0.25) +
          "\npath = sine\ncontrol = force\namplitude = 0.6\ncycles = 2\nsteps_per_cycle = 64\n"
-         "[solver]\nthreads = 1\nstiffness = " + (stiffness ? "true" : "false") + "\n";
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
+         "[solver]\nthreads = 1\nstiffness = " +
+         stiffness + "\n";
 }
 
 struct CycleCost {
-  double seconds;
+  double wall, cpu;
   long convolutions;
 };
 
+double cpu_now() {
+  return double(std::clock()) / CLOCKS_PER_SEC;
+}
+
 // Runs the first cycle (transient), then times the second one.
-CycleCost steady_cycle(int n, bool stiffness) {
+CycleCost steady_cycle(int n, const char* stiffness) {
   auto model = build_model(parse_scenario(scenario(n, stiffness), "bench", "."));
   Stepper stepper(*model);
   std::size_t k = 0;
   for (; model->path.steps[k].time <= 1.0 + 1e-12; ++k) stepper.advance(k);
   const auto c0 = model->half_space->convolutions();
-  const auto t0 = Clock::now();
+  const auto t0 = bench::Clock::now();
+  const double cpu0 = cpu_now();
   for (; k < stepper.steps(); ++k) stepper.advance(k);
-  return {std::chrono::duration<double>(Clock::now() - t0).count(),
-          long(model->half_space->convolutions() - c0)};
+  return {bench::seconds_since(t0), cpu_now() - cpu0, long(model->half_space->convolutions() - c0)};
 }
 
+// One bare convolution (HalfSpace::normal) with the plans a run uses, CPU seconds.
 double bare_convolution(int n) {
   Grid g = Grid::square(n, 1.0);
   Material m;
   m.body1 = {1.0, 0.3};
-  HalfSpace hs(g, m, Coupling::analogy);
+  HalfSpace hs(g, m, Coupling::analogy, FftOptions{1, true, FftPrecision::float64});
   Field p = Field::Random(n, n), u;
-  std::vector<double> t;
-  for (int r = 0; r < 21; ++r) {
-    const auto t0 = Clock::now();
-    hs.normal(p, u);
-    t.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
-  }
-  return median(t);
+  return bench::cpu_per_call([&] { hs.normal(p, u); }, 7);
+}
+
+int max_n = 512, min_n = 128, repeats = 3;
+
+void usage(int code) {
+  std::fprintf(code ? stderr : stdout,
+               "usage: bench_cycle [--min-n N] [--max-n N] [--repeats R]\n");
+  std::exit(code);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int max_n = argc > 1 ? std::atoi(argv[1]) : 512;
-  const int repeats = argc > 2 ? std::atoi(argv[2]) : 3;
-  std::printf("| n | stiffness | cycle (s) | convolutions / cycle | conv (ms) | cycle / conv |\n");
-  std::printf("|---|---|---|---|---|---|\n");
-  for (int n = 128; n <= max_n; n *= 2) {
-    for (bool stiff : {true, false}) {
-      std::vector<double> t;
+  bench::parse_int_options(
+      argc, argv,
+      {{"--max-n", &max_n, 8, 4096}, {"--min-n", &min_n, 8, 4096}, {"--repeats", &repeats, 1, 100}},
+      usage);
+  std::printf("load average %.2f at start\n\n", bench::load_average());
+  std::printf(
+      "| n | stiffness | cycle wall (s) | cycle CPU (s) | convolutions / cycle | conv CPU (ms) "
+      "| cycle CPU / conv | CPU per solver convolution / conv |\n");
+  std::printf("|---|---|---|---|---|---|---|---|\n");
+  for (int n = min_n; n <= max_n; n *= 2) {
+    for (const char* stiff : {"every", "turning", "none"}) {
+      std::vector<double> wall, cpu;
       long conv = 0;
       for (int r = 0; r < repeats; ++r) {
         const CycleCost c = steady_cycle(n, stiff);
-        t.push_back(c.seconds), conv = c.convolutions;
+        wall.push_back(c.wall), cpu.push_back(c.cpu), conv = c.convolutions;
       }
-      const double tc = bare_convolution(n), tm = median(t);
-      std::printf("| %d | %s | %.3f | %ld | %.3f | %.0f |\n", n, stiff ? "on" : "off", tm, conv,
-                  1e3 * tc, tm / tc);
+      const double tc = bare_convolution(n), tm = bench::median(cpu);
+      // Last column: what one convolution of the solvers costs with the element-wise passes and
+      // sparse updates around it, in bare convolutions (1 = no overhead).
+      std::printf("| %d | %s | %.3f | %.3f | %ld | %.3f | %.0f | %.2f |\n", n, stiff,
+                  bench::median(wall), tm, conv, 1e3 * tc, tm / tc, tm / tc / double(conv));
       std::fflush(stdout);
     }
   }
+  std::printf("\nload average %.2f at end\n", bench::load_average());
 }

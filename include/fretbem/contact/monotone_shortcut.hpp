@@ -18,12 +18,16 @@ struct ShortcutResult {
 };
 
 /// Force control: tangential force F_t (0 <= F_t < mu F_z) on the normal solution p
-/// (force F_z, indentation delta) of surface z. Uses `normal` for the corrective solve.
+/// (force F_z, indentation delta) of surface z. Uses `normal` for the corrective solve,
+/// warm-started from `p_star_start` when given (the previous step's p* on a monotone segment:
+/// Q* moves little per step), else from p.
 ShortcutResult ciavarella_jaeger_force(NormalSolver& normal, const Field& z, const Field& p,
-                                       double Fz, double delta, double mu, double ratio, double Ft);
+                                       double Fz, double delta, double mu, double ratio, double Ft,
+                                       const Field* p_star_start = nullptr);
 /// Displacement control: rigid shift U >= 0; past full sliding (delta* <= 0) the whole contact
 /// slips and tau = mu p.
 ShortcutResult ciavarella_jaeger_shift(NormalSolver& normal, const Field& z, const Field& p,
-                                       double delta, double mu, double ratio, double U);
+                                       double delta, double mu, double ratio, double U,
+                                       const Field* p_star_start = nullptr);
 
 }  // namespace fretbem

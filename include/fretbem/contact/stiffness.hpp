@@ -3,7 +3,12 @@
 // zero traction increment on slip and open nodes — no finite differences.
 #pragma once
 
+#include <cstdint>
+#include <deque>
+#include <vector>
+
 #include "fretbem/contact/interface_state.hpp"
+#include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/contact/tangential_operator.hpp"
 
 namespace fretbem {
@@ -12,23 +17,42 @@ struct StiffnessResult {
   double kx = 0.0;  ///< N/m
   int iterations = 0;
   double residual = 0.0;
+  bool preconditioned = false;  ///< the Fourier-preconditioned CG was used
+  bool reused = false;          ///< the stick set was one of the recently solved ones
 };
 
 class StiffnessSolver {
  public:
   /// Throws InputError when tolerance is below the operator's min_tolerance() (float FFTs).
-  StiffnessSolver(TangentialOperator& op, double tolerance, int max_iterations);
+  /// `precondition`: Fourier preconditioner z = S K_z^-1 S r of the CG (as the projected
+  /// tangential CG; automatic: on when the largest stick patch has
+  /// ProjectedCgSolver::kPatchNodes nodes or more).
+  StiffnessSolver(TangentialOperator& op, double tolerance, int max_iterations,
+                  Precondition precondition = Precondition::automatic);
   /// Solves C psi = e_x on the stick nodes of `state` (psi = 0 elsewhere), warm-started from
-  /// the previous solution; k_x = sum psi_x h^2. Throws SolverError when not converged.
+  /// the previous solution restricted to the new stick set; k_x = sum psi_x h^2. Throws
+  /// SolverError when not converged.
   StiffnessResult solve(const StateField& state);
 
  private:
+  bool preconditioned(const std::vector<std::uint8_t>& stick) const;
+  void warm_start(const std::vector<std::uint8_t>& stick);
+
   TangentialOperator& op_;
   double tol_;
   int max_it_;
-  VecField psi_, u_, r_, d_, q_;
-  Field last_stick_;  ///< stick set of the last solve, and its k_x
-  double last_kx_ = 0.0;
+  Precondition precondition_;
+  std::vector<Eigen::Index> nodes_;    ///< grid indices of the stick nodes of this solve
+  std::vector<std::uint8_t> psi_set_;  ///< stick flags (per grid node) psi_ is supported on
+  VecField psi_, u_, r_, z_, d_, q_;   ///< u_ = C psi_ on the whole grid
+  /// k_x of the last few stick sets: a cyclic run meets the same sets again (the full
+  /// contact after every reversal, the smallest set at every turning point).
+  struct Known {
+    std::vector<std::uint8_t> stick;
+    double kx;
+  };
+  std::deque<Known> known_;
+  std::int64_t solves_ = 0;
 };
 
 }  // namespace fretbem

@@ -22,10 +22,14 @@ struct Model {
   std::unique_ptr<NormalSolver> normal;
   std::unique_ptr<TangentialOperator> tangential_operator;
   std::unique_ptr<TangentialSolver> tangential;
-  std::unique_ptr<StiffnessSolver> stiffness;  ///< null when solver.stiffness = false
+  std::unique_ptr<StiffnessSolver> stiffness;  ///< null when solver.stiffness = none
   std::unique_ptr<WearModel> wear;             ///< null when wear.law = none
 };
 
+/// Whether the step with this index and turning flag reports kx (solver.stiffness): every
+/// step, or (turning) the ends of monotone segments — step 0, turning points and the path's
+/// last step, which the paths flag as turning.
+bool stiffness_wanted(const Model& model, int step, bool turning);
 /// Builds the surface and operators. The tangential operator is one-component (no y-solve)
 /// when the coupling is the analogy and the path is collinear.
 std::unique_ptr<Model> build_model(const Scenario& sc);

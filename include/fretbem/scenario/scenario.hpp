@@ -19,6 +19,10 @@ enum class SurfaceType { sphere, flat, rough, file };
 enum class PathType { none, ramp, sine, table };
 enum class Control { force, displacement };
 enum class TangentialAlgorithm { projected, partition };
+/// When the exact differential stiffness kx is computed (solver.stiffness): every step, only at
+/// the ends of monotone segments (step 0, turning points, the last step), or never. Rows
+/// without it carry kx = nan.
+enum class StiffnessMode { every, turning, none };
 enum class WearLaw { none, archard, energy };
 /// arkode: erk or dirk, whichever the run's length against the explicit stability cap favours.
 enum class WearIntegrator { arkode, cycle, erk, dirk };
@@ -60,8 +64,10 @@ struct SolverSpec {
   Coupling coupling = Coupling::analogy;
   int threads = 0;  ///< 0: all cores
   TangentialAlgorithm algorithm = TangentialAlgorithm::projected;
-  bool stiffness = true;     ///< compute the exact differential stiffness kx every step
-  bool fft_measure = false;  ///< FFTW_MEASURE plans
+  StiffnessMode stiffness = StiffnessMode::every;  ///< which steps compute kx
+  /// FFTW_MEASURE plans, measured once per size and kept as wisdom (fft_wisdom.hpp); false:
+  /// ESTIMATE plans (no measuring, no file).
+  bool fft_measure = true;
   /// float32: single-precision convolutions (opt-in; the default tolerance is then
   /// kFloatFftMinTolerance and smaller ones are refused).
   FftPrecision fft_precision = FftPrecision::float64;
@@ -88,7 +94,9 @@ struct WearSpec {
   double coefficient = 0.0;  ///< Archard k (1/Pa) or energy alpha (m^3/J = 1/Pa)
   double cycles = 0.0;       ///< cycle count N to integrate to
   WearIntegrator integrator = WearIntegrator::arkode;
-  double rtol = 1e-3, atol = 1e-9;
+  /// ARKODE tolerances on the worn depth W: relative, and absolute (m); atol = 0 (not given):
+  /// rtol x the indentation of the unworn surface (issue 12).
+  double rtol = 1e-3, atol = 0.0;
   WearNewton newton = WearNewton::frozen;
   /// Share of the worn depth taken by the indenter, the rest by the half-space (issue 6:
   /// "split between the two bodies with a ratio when both wear"); 1 = indenter only.

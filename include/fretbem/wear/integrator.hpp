@@ -22,7 +22,8 @@
 //    constant pressure that loop is closed from the first turning point on (Masing /
 //    Mindlin–Deresiewicz), so w is a function of z alone — not of a traction state carried
 //    from a different surface, which is what eroded the stick zone in the prototype.
-//  - dirk: the same ODE by ARKODE ARKStep, implicit SDIRK order 2, no step cap. Newton with the
+//  - dirk: the same ODE by ARKODE ARKStep, implicit TR-BDF2 (L-stable, stiffly
+//    accurate, order 2), no step cap. Newton with the
 //    frozen-slip Newton matrix (WearPreconditioner: the pressure response to wear with the slip
 //    of the last cycle held fixed, solved exactly by CG), or Jacobian-free Newton–Krylov
 //    (SPGMR, finite-difference Jacobian-vector products of the per-cycle wear map,
@@ -94,6 +95,11 @@ struct WearReport {
   /// Implicit integrator: Newton iterations and their convergence failures, Krylov iterations
   /// (wear.newton = krylov), inner CG iterations (= convolutions) of the frozen-slip solves.
   long newton_iterations = 0, newton_failures = 0, krylov_iterations = 0, inner_iterations = 0;
+  /// Cost guard: stretches of cycles simulated one by one where integrator steps were not
+  /// cheaper, and the cycles they covered.
+  long stretches = 0;
+  double stretch_cycles = 0.0;
+  long retries = 0;      ///< failed steps that succeeded when retried warm-started (workaround)
   double N = 0.0;        ///< cycle count reached
   bool stopped = false;  ///< stopped by the step budget before wear.cycles
 };
@@ -122,6 +128,13 @@ class WearCycles {
   WearCycle carried(double N);
   /// The steady cycle of surface z0 - worn, from a fresh traction state (ODE right-hand side).
   WearCycle steady(double N, const Field& worn);
+  /// The next steady loop continuing the stepper's history after a steady() or continued()
+  /// whose wear was apply()'d: one cycle of the physical history (stretches of cycles in the
+  /// ODE modes).
+  WearCycle continued(double N);
+  /// Indentation of the unworn surface under the path's initial normal load (m): the depth
+  /// scale of the wear tolerances.
+  double initial_indentation();
   /// Pressure on surface z0 - worn under the scenario's normal load.
   Field pressure_on(const Field& worn);
   /// Removes one cycle's worn depth from the surface, z <- z - rate (cycle mode).
@@ -130,6 +143,8 @@ class WearCycles {
   const Field& pressure() const { return stepper_.state().pressure; }
   double simulated() const { return simulated_; }
   int evaluations() const { return evaluations_; }
+  /// Steps whose solve failed and succeeded when retried warm-started (workaround, docs/wear.md).
+  long retries() const { return retries_; }
   WearCounters counters() const { return {simulated_, evaluations_, row_, index_}; }
   /// Resume: continue the counters; the stepper state was restored by the caller, and the
   /// surface changed since its last normal solve (cycle mode applies a cycle's wear before
@@ -139,6 +154,7 @@ class WearCycles {
  private:
   void fresh(const Field& worn);
   StepRecord step(const LoadStep& ls, double time, bool emit);
+  StepRecord advance(const LoadStep& ls, int index);
   WearCycle measure(double N, const std::vector<LoadStep>& steps, double t_shift);
 
   Model& model_;
@@ -149,6 +165,8 @@ class WearCycles {
   double turn_ = 0.0;                              // time of the first turning point
   double simulated_ = 0.0;
   int evaluations_ = 0, row_ = 0, index_ = 0;
+  Field warm_;        // last converged pressure (retry start of a failed step)
+  long retries_ = 0;  // failed steps retried
 };
 
 /// Runs wear.integrator to wear.cycles. log may be null. With `resume`, continues from that

@@ -1,0 +1,138 @@
+// Exact differential stiffness k_x: preconditioned and plain CG agree; on a monotone segment
+// at constant normal load it equals the Ciavarella–Jäger value (G*/E*) k_z(Q*), k_z = dF/ddelta
+// of the normal contact (here by central differences of two normal solves, which the stiffness
+// solve does not use); solver.stiffness = every | turning | none in the stepper.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include "fretbem/contact/monotone_shortcut.hpp"
+#include "fretbem/contact/stiffness.hpp"
+#include "fretbem/core/errors.hpp"
+#include "fretbem/history/model.hpp"
+#include "fretbem/history/stepper.hpp"
+#include "fretbem/surface/surface.hpp"
+
+using namespace fretbem;
+
+namespace {
+
+// State field of a one-component traction: open, stick inside the disc, slip on it.
+StateField classify(const Field& bound, const Field& tau) {
+  StateField st(bound.rows(), bound.cols());
+  for (Eigen::Index i = 0; i < st.size(); ++i)
+    st(i) = bound(i) > 0 ? (std::abs(tau(i)) < bound(i) * (1 - 1e-10) ? 1 : 2) : 0;
+  return st;
+}
+
+// Normal force F(delta) by a tight normal solve.
+double force_at(NormalSolver& ns, const Field& z, double delta, Field& p) {
+  return ns.solve_indentation(z, delta, p).force;
+}
+
+std::string sine_scenario(const std::string& stiffness) {
+  return "[material]\nE = 1\nnu = 0.3\nmu = 0.5\n[grid]\nn = 32\nlength = 1\n[surface]\n"
+         "type = sphere\nradius = 1\n[load]\nnormal_force = 0.0229\npath = sine\n"
+         "amplitude = 0.6\ncycles = 1\nsteps_per_cycle = 16\n[solver]\ntolerance = 1e-10\n"
+         "threads = 1\nstiffness = " +
+         stiffness + "\n";
+}
+
+std::vector<StepRecord> run_rows(const std::string& stiffness) {
+  auto model = build_model(parse_scenario(sine_scenario(stiffness), "t", "."));
+  Stepper stepper(*model);
+  std::vector<StepRecord> rows;
+  for (std::size_t k = 0; k < stepper.steps(); ++k) rows.push_back(stepper.advance(k));
+  return rows;
+}
+
+}  // namespace
+
+// Rough and spherical contacts at several tangential loads: kx of the stick set left by the
+// Ciavarella–Jäger superposition equals (G*/E*) dF/ddelta at delta* (eq. 19), and the
+// preconditioned and plain solves agree to their tolerance. A rough surface (many patches)
+// and the sphere (one) test the range of stick sets.
+TEST(Stiffness, CiavarellaJaegerAndPreconditionedAgree) {
+  const int n = 64;
+  const Grid grid = Grid::square(n, 1.0);
+  Material mat;
+  mat.body1 = {1.0, 0.3};
+  mat.mu = 0.5;
+  HalfSpace hs(grid, mat, Coupling::analogy);
+  NormalSolver ns(hs, NormalOptions{1e-13, 20000});
+  TangentialOperator op(hs, Vec2(1, 0));
+  StiffnessSolver plain(op, 1e-11, 20000, Precondition::off);
+  StiffnessSolver pcg(op, 1e-11, 20000, Precondition::on);
+  RoughSpec spec;
+  spec.hurst = 0.7;
+  spec.rms_slope = 0.1;
+  spec.method = RoughMethod::fourier;
+  spec.seed = 3;
+  const double ratio = mat.E_star() / mat.G_star();
+  double worst_pcg = 0.0, worst_cj = 0.0;
+  for (const Field& z : {sphere_surface(grid, 1.0), rough_surface(grid, spec)}) {
+    const double delta = 0.5 * (z.maxCoeff() - z.minCoeff()) * 0.1 + 1e-3;
+    Field p;
+    const NormalResult nr = ns.solve_indentation(z, delta, p);
+    for (const double q : {0.2, 0.5, 0.8}) {
+      const ShortcutResult cj = ciavarella_jaeger_force(ns, z, p, nr.force, nr.indentation, mat.mu,
+                                                        ratio, q * mat.mu * nr.force);
+      const StateField st = classify(mat.mu * p, cj.traction);
+      const StiffnessResult a = plain.solve(st), b = pcg.solve(st);
+      ASSERT_GT(a.kx, 0.0);
+      EXPECT_TRUE(b.preconditioned);
+      EXPECT_NEAR(b.kx / a.kx, 1.0, 1e-8) << "q = " << q;
+      // k_z at delta* by central differences: the discrete F(delta) is linear while the
+      // contact set does not change, so a step of 1e-7 delta* leaves only the normal solves'
+      // error (1e-13 relative) amplified by 1e7.
+      const double ds = cj.corrective.indentation, eps = 1e-7 * ds;
+      Field pp = p, pm = p;
+      const double kz = (force_at(ns, z, ds + eps, pp) - force_at(ns, z, ds - eps, pm)) / (2 * eps);
+      EXPECT_NEAR(a.kx * ratio / kz, 1.0, 1e-4) << "q = " << q;
+      worst_pcg = std::max(worst_pcg, std::abs(b.kx / a.kx - 1));
+      worst_cj = std::max(worst_cj, std::abs(a.kx * ratio / kz - 1));
+      std::printf("q = %.1f: kx %.6e, iterations plain %d, pcg %d\n", q, a.kx, a.iterations,
+                  b.iterations);
+    }
+  }
+  std::printf("max rel difference pcg/plain %.2e, kx vs (G*/E*) k_z(Q*) %.2e\n", worst_pcg,
+              worst_cj);
+}
+
+// every: kx on every row; turning: the same kx (to the stiffness tolerance) at step 0, the
+// turning points and the last step, nan elsewhere; none: nan everywhere. Nothing else moves.
+TEST(Stiffness, ModesInTheStepper) {
+  const auto every = run_rows("every"), turning = run_rows("turning"), none = run_rows("none");
+  const auto old_true = run_rows("True"), old_false = run_rows("false");
+  ASSERT_EQ(every.size(), 17u);
+  int reported = 0;
+  for (std::size_t k = 0; k < every.size(); ++k) {
+    EXPECT_TRUE(std::isfinite(every[k].kx));
+    EXPECT_EQ(every[k].Fx, turning[k].Fx);
+    EXPECT_EQ(every[k].Ux, none[k].Ux);
+    EXPECT_EQ(every[k].kx, old_true[k].kx);
+    EXPECT_TRUE(std::isnan(none[k].kx));
+    EXPECT_TRUE(std::isnan(old_false[k].kx));
+    const bool end = k == 0 || every[k].turning;
+    EXPECT_EQ(std::isfinite(turning[k].kx), end) << "step " << k;
+    if (end) {
+      EXPECT_NEAR(turning[k].kx / every[k].kx, 1.0, 1e-7) << "step " << k;
+      ++reported;
+    }
+  }
+  EXPECT_EQ(reported, 4);  // step 0, t = 0.25, 0.75, and the last step
+}
+
+TEST(Stiffness, BadModeIsOneClearLine) {
+  try {
+    parse_scenario(sine_scenario("sometimes"), "t", ".");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("solver.stiffness"), std::string::npos) << m;
+    EXPECT_NE(m.find("every|turning|none"), std::string::npos) << m;
+  }
+}

@@ -1,0 +1,113 @@
+// Wear on any periodic path (issue 12): a table holding one period, with a varying normal load,
+// and sine paths in any direction of the plane.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "fretbem/core/errors.hpp"
+#include "fretbem/history/model.hpp"
+#include "fretbem/history/stepper.hpp"
+#include "fretbem/scenario/scenario.hpp"
+#include "fretbem/wear/integrator.hpp"
+
+using namespace fretbem;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string sphere(int n, const std::string& load, const std::string& wear) {
+  return "[material]\nE = 210e9\nnu = 0.3\nmu = 0.5\n[grid]\nn = " + std::to_string(n) +
+         "\nlength = 2.8e-4\n[surface]\ntype = sphere\nradius = 0.01\n[load]\n" + load +
+         "[solver]\nstiffness = false\ntolerance = 1e-9\nprecondition = off\n[wear]\n" + wear;
+}
+
+fs::path table_file(const std::string& name, const std::string& text) {
+  const fs::path f = fs::temp_directory_path() /
+                     ("fretbem_wear_path_" + name + "_" + std::to_string(getpid()) + ".csv");
+  std::ofstream(f) << text;
+  return f;
+}
+
+WearReport integrate(const std::string& text) {
+  auto m = build_model(parse_scenario(text, "wear_path", fs::temp_directory_path()));
+  Stepper st(*m);
+  WearCycles cyc(*m, st);
+  return integrate_wear(*m, cyc, nullptr);
+}
+
+// Worn volume of one steady cycle of the unworn surface (the wear map's first evaluation).
+double steady_volume(const std::string& text) {
+  auto m = build_model(parse_scenario(text, "wear_path", fs::temp_directory_path()));
+  Stepper st(*m);
+  WearCycles cyc(*m, st);
+  cyc.start();
+  const WearCycle c = cyc.steady(0.0, Field::Zero(m->scenario.grid.nx, m->scenario.grid.ny));
+  return c.rate.sum() * m->scenario.grid.cell_area();
+}
+
+}  // namespace
+
+// A table holding one period of the sine's turning points (Fx in N = 0.6 mu F_z) is the sine:
+// the same steps at constant normal load, so the same worn depth to round-off.
+TEST(WearPaths, TableOfOnePeriodIsTheSine) {
+  const fs::path f = table_file("sine", "time,Fx\n0,0\n0.25,3\n0.5,0\n0.75,-3\n1,0\n");
+  const std::string wear = "law = archard\ncoefficient = 2e-12\ncycles = 300\nintegrator = dirk\n";
+  const WearReport sine = integrate(sphere(
+      32, "normal_force = 10\npath = sine\ncontrol = force\namplitude = 0.6\ncycles = 1\n", wear));
+  const WearReport table =
+      integrate(sphere(32, "normal_force = 10\npath = table\ntable = " + f.string() + "\n", wear));
+  fs::remove(f);
+  const double wmax = sine.worn.maxCoeff();
+  ASSERT_GT(wmax, 0.0);
+  EXPECT_LT((sine.worn - table.worn).abs().maxCoeff(), 1e-6 * wmax);
+}
+
+// Gross slip with a normal load that changes within the period (10 N on the strokes 0 -> D and
+// -D -> 0, 5 N on the stroke D -> -D): the steady cycle wears k sum_strokes P |dU| =
+// k (10 D + 5 x 2D + 10 D). The elastic take-up at the reversals is below 2.5 % of the
+// strokes at D = 10 um (test_wear.cpp, WholeContactWearsVolumeLinear): 5 %.
+TEST(WearPaths, TableWithVaryingNormalLoadGrossSlipRate) {
+  const double k = 1e-15, D = 1e-5;
+  const fs::path f = table_file("gross",
+                                "time,Fz,Ux\n0,10,0\n1,10,1e-5\n2,5,1e-5\n3,5,-1e-5\n"
+                                "4,10,-1e-5\n5,10,0\n");
+  char w[200];
+  std::snprintf(w, sizeof w, "law = archard\ncoefficient = %g\ncycles = 100\n", k);
+  const double V = steady_volume(
+      sphere(32, "path = table\ncontrol = displacement\ntable = " + f.string() + "\n", w));
+  fs::remove(f);
+  const double closed = k * (10 * D + 5 * 2 * D + 10 * D);
+  std::printf("[ table gross slip ] worn volume per cycle %.4g, closed form %.4g\n", V, closed);
+  EXPECT_NEAR(V / closed, 1.0, 0.05);
+}
+
+// The sine in the y direction wears the transpose of the sine in x (the square grid and the
+// sphere are symmetric under x <-> y): the direction of the path is honoured by the wear map
+// and the integrator alike.
+TEST(WearPaths, DirectionNinetyIsTheTranspose) {
+  const std::string wear = "law = archard\ncoefficient = 2e-12\ncycles = 300\nintegrator = dirk\n";
+  auto load = [](int deg) {
+    return "normal_force = 10\npath = sine\ncontrol = force\namplitude = 0.6\ncycles = 1\n"
+           "direction = " +
+           std::to_string(deg) + "\n";
+  };
+  const WearReport x = integrate(sphere(32, load(0), wear));
+  const WearReport y = integrate(sphere(32, load(90), wear));
+  const double wmax = x.worn.maxCoeff();
+  ASSERT_GT(wmax, 0.0);
+  const Field yt = y.worn.transpose();
+  std::printf("[ direction ] max |W_90^T - W_0| / max W = %.3g\n",
+              (yt - x.worn).abs().maxCoeff() / wmax);
+  EXPECT_LT((yt - x.worn).abs().maxCoeff(), 1e-4 * wmax);
+}
+
+// A path that is not periodic is refused with a message naming the key.
+TEST(WearPaths, RampIsRefused) {
+  EXPECT_THROW(integrate(sphere(16, "normal_force = 10\npath = ramp\namplitude = 0.5\n",
+                                "law = archard\ncoefficient = 1e-12\ncycles = 10\n")),
+               InputError);
+}
