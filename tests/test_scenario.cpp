@@ -218,10 +218,27 @@ TEST(Scenario, UnknownNamesSuggestTheNearest) {
   EXPECT_HAS(error_of(kGood + "[grid]\nmu = 0.3\n"), "(did you mean 'material.mu'?)");
   EXPECT_HAS(with("load.normal force=3"), "did you mean 'load.normal_force'");
   EXPECT_HAS(with("material.e=3"), "did you mean 'material.E'");
+  EXPECT_HAS(with("material.NU=0.3"), "did you mean 'material.nu'");  // issue 14, item 12
   EXPECT_HAS(with("output.fields=pressure,tracton_x"), "did you mean 'traction_x'");
   const std::string far = with("solver.zzzzzzzzzzzz=1");
   EXPECT_HAS(far, "unknown key 'solver.zzzzzzzzzzzz'");
   EXPECT_EQ(far.find("did you mean"), std::string::npos) << far;
+}
+
+// Some editors start UTF-8 files with a byte-order mark; it is not part of the first line.
+TEST(Scenario, ByteOrderMarkIsSkipped) {
+  const Scenario s = parse("\xEF\xBB\xBF" + kGood);
+  EXPECT_EQ(s.material.body1.E, parse(kGood).material.body1.E);
+}
+
+// Dimensional inputs outside 1e-100..1e100 name the key (issue 14, items 5 and 12).
+TEST(Scenario, MagnitudesTheArithmeticCannotCarryNameTheKey) {
+  for (const char* kv : {"material.E=1e-300", "material.E=1e308", "grid.length=1e200",
+                         "surface.radius=1e-300", "load.normal_force=1e101"}) {
+    EXPECT_HAS(with(kv), "outside [1e-100, 1e100]");
+    EXPECT_HAS(with(kv), kv);
+  }
+  EXPECT_HAS(with("wear.cycles=0.5"), "wear.cycles");
 }
 
 TEST(Scenario, StructuralErrors) {

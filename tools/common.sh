@@ -15,15 +15,18 @@ FRETBEM_BUILD_DIR="${FRETBEM_BUILD_DIR:-build}"
 FRETBEM_REQUIRED_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libfftw3-dev libsundials-dev libhdf5-dev libboost-program-options-dev
-  libgtest-dev googletest
+  libgtest-dev googletest python3
   pybind11-dev python3-dev python3-numpy
   libxdmf-dev libzip-dev libpugixml-dev
 )
 # MPI is optional for the build (FRETBEM_MPI=AUTO finds it); tools/test.sh installs it so that
 # the suite also runs the MPI sweep tests (tests/test_sweep_mpi.cpp, ~10-20 s; docs/cluster.md).
 FRETBEM_MPI_PACKAGES=(libopenmpi-dev openmpi-bin)
-# Only the plotting scripts (tools/plot_*.py) and h5dump use these.
-FRETBEM_OPTIONAL_PACKAGES=(python3-numpy python3-h5py python3-matplotlib hdf5-tools)
+# Only the plotting scripts (tools/plot_*.py) and h5dump use these; clang-14 and its runtime
+# build the sanitized tests with float-cast-overflow and the libFuzzer targets
+# (tools/test.sh --sanitize, docs/reliability.md).
+FRETBEM_OPTIONAL_PACKAGES=(python3-numpy python3-h5py python3-matplotlib hdf5-tools
+  clang-14 libclang-rt-14-dev)
 
 fretbem_log() { printf '==> %s\n' "$*" >&2; }
 
@@ -98,6 +101,20 @@ fretbem_install_dependencies() {
       *) fretbem_log "fretbem_install_dependencies: unknown option $flag" ;;
     esac
   done
+}
+
+# Configures $FRETBEM_BUILD_DIR on first use for ASan + UBSan (tools/test.sh --sanitize):
+# clang-14 when installed (it also traps overflowing float-to-int casts), else the default.
+fretbem_configure_sanitized() {
+  local dir="$FRETBEM_ROOT/$FRETBEM_BUILD_DIR"
+  [[ -f "$dir/CMakeCache.txt" ]] && return 0
+  local -a compilers=()
+  if command -v clang++-14 >/dev/null 2>&1; then
+    compilers=(-DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14)
+  fi
+  fretbem_log "configuring $FRETBEM_BUILD_DIR/ (sanitized, Ninja)"
+  cmake -S "$FRETBEM_ROOT" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DFRETBEM_SANITIZE=ON -DFRETBEM_PYTHON=OFF "${compilers[@]}"
 }
 
 # Configures (Release, Ninja) on first use and builds the given targets (default: all).

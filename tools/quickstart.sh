@@ -14,8 +14,8 @@ fretbem_build fretbem
 scenario=scenarios/mindlin_cycle.ini
 n=64
 out=out/quickstart
-fretbem_log "running: $FRETBEM_BUILD_DIR/fretbem run $scenario --set grid.n=$n --out $out"
-"$FRETBEM_BUILD_DIR/fretbem" run "$scenario" --set grid.n=$n --out "$out"
+fretbem_log "running: $FRETBEM_BUILD_DIR/fretbem run $scenario --set grid.n=$n --out $out --overwrite"
+"$FRETBEM_BUILD_DIR/fretbem" run "$scenario" --set grid.n=$n --out "$out" --overwrite
 
 # Mindlin–Deresiewicz energy per full cycle between +-Q* at constant P (Johnson eq. 7.59), for
 # a rigid sphere on an elastic half-space (the scenario has no second body):

@@ -1,14 +1,39 @@
 #!/usr/bin/env bash
 # Install what is missing, build every target, run the test suite. Extra arguments go to ctest
 # (e.g. tools/test.sh -R half_space); the exit status is ctest's.
+#
+#   tools/test.sh --sanitize [CTEST ARGS]   the same in build-sanitize/ with AddressSanitizer
+#       and UndefinedBehaviorSanitizer (clang-14 when installed, which also traps overflowing
+#       float-to-int casts; else the default compiler), the `unit` label: the unit tests and
+#       the bad-input corpus (tests/bad_inputs). Any sanitizer report fails the test.
 set -euo pipefail
 # shellcheck source=tools/common.sh
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 cd "$FRETBEM_ROOT"
 
-# The plotting packages are installed too: the suite tests the plot tools with them; and
-# OpenMPI, so that the MPI sweep tests run (docs/cluster.md).
+sanitize=0
+if [[ "${1:-}" == --sanitize ]]; then
+  sanitize=1
+  shift
+fi
+
+# The plotting packages are installed too: the suite tests the plot tools with them (and the
+# optional list carries clang-14 for the sanitized build); and OpenMPI, so that the MPI sweep
+# tests run (docs/cluster.md).
 fretbem_install_dependencies --with-optional --with-mpi
+
+if [[ $sanitize == 1 ]]; then
+  FRETBEM_BUILD_DIR=build-sanitize
+  fretbem_configure_sanitized
+  # shellcheck disable=SC2119
+  fretbem_build
+  # halt_on_error: the first report fails the test; leaks are reported too (detect_leaks).
+  export ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:abort_on_error=0
+  export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+  fretbem_log "running ctest -L unit (sanitized)"
+  exec ctest --test-dir "$FRETBEM_BUILD_DIR" --output-on-failure -j2 -L unit "$@"
+fi
+
 # shellcheck disable=SC2119
 fretbem_build
 

@@ -13,9 +13,13 @@
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/history/check_report.hpp"
 #include "fretbem/history/model.hpp"
+#include "fretbem/history/resolution.hpp"
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/io/checkpoint.hpp"
+#include "fretbem/io/resume_check.hpp"
+#include "fretbem/io/resolution_report.hpp"
 #include "fretbem/io/run_output.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/study/ensemble.hpp"
@@ -32,7 +36,8 @@ constexpr const char* kUsage =
     "fretbem " FRETBEM_VERSION
     " — frictional contact of rough elastic surfaces under load histories\n\n"
     "usage:\n"
-    "  fretbem run SCENARIO.ini [--set section.key=value ...] [--out DIR] [--quiet]\n"
+    "  fretbem run SCENARIO.ini [--set section.key=value ...] [--out DIR] [--overwrite]\n"
+    "              [--quiet]   (--overwrite: replace another run's results in DIR)\n"
     "  fretbem run --resume DIR [--quiet]   (continue an interrupted run)\n"
     "  run options: --stop-after N  run at most N steps, checkpoint, exit (resume later);\n"
     "               wear runs: N simulated cycles (wear.integrator = cycle) or accepted\n"
@@ -40,7 +45,7 @@ constexpr const char* kUsage =
     "  fretbem check SCENARIO.ini [--set section.key=value ...]\n"
     "  fretbem surface [SCENARIO.ini] [--set surface.key=value ...] --out FILE\n"
     "  fretbem ensemble SCENARIO.ini --hurst H1,H2,... [--seeds N] [--jobs J] [--bins B]\n"
-    "                   [--set section.key=value ...] [--out DIR] [--quiet]\n"
+    "                   [--set section.key=value ...] [--out DIR] [--overwrite] [--quiet]\n"
     "  fretbem sweep STUDY.ini [--jobs J] [--set section.key=value ...] [--out DIR] [--quiet]\n"
     "                [--list | --member K | --aggregate]   (docs/sweep.md; under mpirun:\n"
     "                members spread over the ranks, docs/cluster.md)\n"
@@ -58,6 +63,8 @@ struct Args {
   long stop_after = -1;
   std::vector<std::string> sets;
   bool quiet = false;
+  bool overwrite = false;
+  bool out_given = false;
   std::string hurst;                     // ensemble
   int seeds = 20, jobs = 0, bins = 20;   // ensemble (jobs also sweep)
   bool list = false, aggregate = false;  // sweep
@@ -67,11 +74,11 @@ struct Args {
 Args parse_args(int argc, char** argv) {
   po::options_description opts("options");
   opts.add_options()("help,h", "")("version", "")("set", po::value<std::vector<std::string>>(), "")(
-      "out", po::value<std::string>(), "")("quiet,q", "")("resume", po::value<std::string>(), "")(
-      "stop-after", po::value<long>(), "")("hurst", po::value<std::string>(), "")(
-      "seeds", po::value<int>(), "")("jobs", po::value<int>(), "")("bins", po::value<int>(), "")(
-      "list", "")("aggregate", "")("member", po::value<long>(), "")(
-      "positional", po::value<std::vector<std::string>>(), "");
+      "out", po::value<std::string>(), "")("quiet,q", "")("overwrite", "")(
+      "resume", po::value<std::string>(), "")("stop-after", po::value<long>(), "")(
+      "hurst", po::value<std::string>(), "")("seeds", po::value<int>(), "")(
+      "jobs", po::value<int>(), "")("bins", po::value<int>(), "")("list", "")("aggregate", "")(
+      "member", po::value<long>(), "")("positional", po::value<std::vector<std::string>>(), "");
   po::positional_options_description pos;
   pos.add("positional", -1);
   po::variables_map vm;
@@ -80,7 +87,11 @@ Args parse_args(int argc, char** argv) {
   if (vm.count("help")) a.command = "help";
   if (vm.count("version")) a.command = "version";
   if (vm.count("set")) a.sets = vm["set"].as<std::vector<std::string>>();
-  if (vm.count("out")) a.out = vm["out"].as<std::string>();
+  if (vm.count("out")) {
+    a.out = vm["out"].as<std::string>(), a.out_given = true;
+    if (a.out.empty()) throw InputError("--out: empty directory name");
+  }
+  a.overwrite = vm.count("overwrite") > 0;
   a.quiet = vm.count("quiet") > 0;
   if (vm.count("resume")) a.resume = vm["resume"].as<std::string>();
   if (vm.count("stop-after")) {
@@ -155,7 +166,11 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
       cycles.on_step(r, stepper.state(), model);
   Checkpointer checkpoint(dir, stepper, model.scenario.output.checkpoint_every);
   ProgressLine progress(stepper.steps());
-  std::vector<Observer*> obs{&csv, &h5, &cycles, &checkpoint};
+  ResolutionReport resolution;
+  if (resume_rows > 0)
+    for (const auto& r : read_timeseries(dir, std::size_t(resume_rows)))
+      resolution.on_step(r, stepper.state(), model);
+  std::vector<Observer*> obs{&csv, &h5, &cycles, &checkpoint, &resolution};
   if (!quiet) obs.push_back(&progress);
   const std::size_t budget = a.stop_after > 0 ? std::size_t(a.stop_after) : SIZE_MAX;
   stepper.run(obs, budget);
@@ -170,30 +185,48 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
   const PathType path = model.scenario.load.path;
   print_summary(stepper.steps(), path == PathType::sine || path == PathType::table, csv.path(),
                 dir / "cycles.csv", h5.path());
+  if (!resolution.summary().empty()) std::printf("  %s\n", resolution.summary().c_str());
+  for (const auto& w : resolution.warnings()) std::fprintf(stderr, "fretbem: %s\n", w.c_str());
   return 0;
 }
 
-int cmd_run(const Args& a) {
-  if (!a.resume.empty()) {
-    if (!a.scenario.empty() || !a.sets.empty())
-      throw InputError("run --resume DIR takes no scenario or --set: the run's own is used");
-    const Checkpoint cp = load_checkpoint(a.resume);
-    Scenario sc = parse_scenario(cp.scenario_text, "resume", ".", {});
-    set_output_dir(sc, a.resume);
-    auto model = build_model(sc);
-    if (model->wear) {
-      run_wear(*model, a.quiet, &cp, a.stop_after);
-      return 0;
-    }
-    if (cp.wear) throw InputError(a.resume + "/checkpoint.h5: a wear run's, but no wear.law");
-    model->surface = cp.surface;
-    Stepper stepper(*model);
-    stepper.restore(cp.state, cp.memory);
-    return run_model(*model, stepper, long(cp.memory.next_step), a);
+// Resume: the checkpoint is validated against the scenario it carries, and the outputs in
+// DIR against the checkpoint (run id, row counts), before anything is written.
+int resume_run(const Args& a) {
+  if (!a.scenario.empty() || !a.sets.empty())
+    throw InputError("run --resume DIR takes no scenario or --set: the run's own is used");
+  if (a.out_given)
+    throw InputError("run --resume DIR continues in DIR: --out is not allowed with it");
+  if (a.overwrite) throw InputError("run --resume DIR: --overwrite is not allowed with it");
+  const std::filesystem::path dir = a.resume;
+  const Checkpoint cp = load_checkpoint(dir);
+  Scenario sc = parse_scenario(cp.scenario_text, (dir / "checkpoint.h5").string(), ".", {});
+  set_output_dir(sc, dir);
+  auto model = build_model(sc);
+  validate_checkpoint(cp, *model, dir / "checkpoint.h5");
+  model->run_id = cp.run_id;
+  if (model->wear) {
+    if (!cp.wear) throw InputError((dir / "checkpoint.h5").string() + ": not a wear run's");
+    check_resume_outputs(dir, cp.run_id, std::size_t(cp.wear->counters.rows));
+    run_wear(*model, a.quiet, &cp, a.stop_after);
+    return 0;
   }
+  if (cp.wear)
+    throw InputError((dir / "checkpoint.h5").string() + ": a wear run's, but no wear.law");
+  check_resume_outputs(dir, cp.run_id, cp.memory.next_step);
+  model->surface = cp.surface;
+  Stepper stepper(*model);
+  stepper.restore(cp.state, cp.memory);
+  return run_model(*model, stepper, long(cp.memory.next_step), a);
+}
+
+int cmd_run(const Args& a) {
+  if (!a.resume.empty()) return resume_run(a);
   Scenario sc = read_scenario(a);
   if (!a.out.empty()) set_output_dir(sc, a.out);
   auto model = build_model(sc);
+  prepare_output_dir(sc.output.dir, a.overwrite);
+  model->run_id = new_run_id();
   if (model->wear) {  // wear runs: their own driver and checkpoints
     run_wear(*model, a.quiet, nullptr, a.stop_after);
     return 0;
@@ -202,11 +235,21 @@ int cmd_run(const Args& a) {
   return run_model(*model, stepper, -1, a);
 }
 
+// Everything `run` does before its first solve (prepare_model: files read, memory guard,
+// pre-flight checks), then the report; no operator is built.
 int cmd_check(const Args& a) {
-  const Scenario sc = read_scenario(a);
-  make_load_path(sc);  // also validates path tables
-  std::printf("%s: ok (%d x %d grid, %zu load steps)\n", a.scenario.c_str(), sc.grid.nx, sc.grid.ny,
-              make_load_path(sc).steps.size());
+  const auto model = prepare_model(read_scenario(a));
+  const Scenario& sc = model->scenario;
+  if (sc.wear.law == WearLaw::none)
+    std::printf("%s: ok (%d x %d grid, %zu load steps)\n", a.scenario.c_str(), sc.grid.nx,
+                sc.grid.ny, model->path.steps.size());
+  else
+    std::printf("%s: ok (%d x %d grid, wear run of %s cycles)\n", a.scenario.c_str(), sc.grid.nx,
+                sc.grid.ny, format_number(sc.wear.cycles).c_str());
+  std::fputs(check_report(*model).c_str(), stdout);
+  // Resolution and domain predicted from Hertz for spheres (issues 17 §3, 18).
+  if (const auto p = predict_sphere(sc))
+    for (const auto& line : describe(*p, sc)) std::printf("  %s\n", line.c_str());
   return 0;
 }
 
@@ -251,6 +294,7 @@ int cmd_ensemble(const Args& a) {
   o.seeds = a.seeds, o.jobs = a.jobs, o.bins = a.bins;
   o.out = a.out;
   o.quiet = a.quiet;
+  o.overwrite = a.overwrite;
   const int failed = run_ensemble(o);
   if (failed) std::fprintf(stderr, "fretbem ensemble: %d member(s) failed\n", failed);
   return failed ? 4 : 0;

@@ -28,6 +28,15 @@ std::string last_error() {
   std::string msg;
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, innermost_error, &msg);
   H5Eclear2(H5E_DEFAULT);
+  // A failed system call comes as a multi-line report ("file write failed: time = ...,
+  // errno = 28, error message = 'No space left on device', ..."): keep the system's message.
+  const std::string tag = "error message = '";
+  const auto at = msg.find(tag);
+  if (at != std::string::npos) {
+    const auto from = at + tag.size();
+    msg = msg.substr(0, msg.find(':')) + ": " + msg.substr(from, msg.find('\'', from) - from);
+  }
+  msg = msg.substr(0, msg.find('\n'));
   return msg.empty() ? "unknown HDF5 error" : msg;
 }
 

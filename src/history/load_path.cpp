@@ -1,5 +1,7 @@
 #include "fretbem/history/load_path.hpp"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -38,11 +40,35 @@ std::vector<double> sine_times(int cycles, int spc) {
   return out;
 }
 
+// Peak memory per generated load step: 2e6 sine steps made `fretbem check` peak at 333 MB
+// (/usr/bin/time, issue 14 item 9), about 160 bytes a step; 200 leaves a margin.
+constexpr double kBytesPerStep = 200.0;
+
+// Refuses a ramp or sine path whose steps would not fit in half the physical memory (the
+// other half is the grid's), before anything is allocated: load.cycles = 1e8 grew `check`
+// past 8 GB, load.steps = 2^30 ended in bad_alloc.
+void check_step_count(const LoadSpec& spec) {
+  const bool sine = spec.path == PathType::sine;
+  const double steps = sine ? (double(spec.cycles) * spec.steps_per_cycle + 4.0 * spec.cycles + 1)
+                            : double(spec.steps) + 1;
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page <= 0) return;  // unknown: let the allocator decide
+  const double limit = 0.5 * double(pages) * double(page) / kBytesPerStep;
+  if (steps <= limit) return;
+  std::ostringstream msg;
+  msg << (sine ? "load.cycles x load.steps_per_cycle" : "load.steps") << ": "
+      << static_cast<long long>(steps) << " load steps would need "
+      << steps * kBytesPerStep / (1 << 30) << " GiB of memory; at most "
+      << static_cast<long long>(limit) << " fit on this machine";
+  throw InputError(msg.str());
+}
+
 }  // namespace
 
 LoadPath make_load_path(const Scenario& sc) {
   const LoadSpec& spec = sc.load;
   if (spec.path == PathType::table) return read_load_table(spec.table, spec, sc.material.mu);
+  check_step_count(spec);
   LoadPath path;
   const NormalLoad normal = constant_normal(spec);
   const Vec2 e = direction_of(spec) * amplitude_of(spec);

@@ -1,9 +1,11 @@
 // Path tables: CSV with a `time` column and any of Fz, delta, Fx, Fy, Ux, Uy (SI units).
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/format.hpp"
 #include "fretbem/history/load_path.hpp"
 
 namespace fretbem {
@@ -12,8 +14,21 @@ namespace {
 
 using Columns = std::map<std::string, std::vector<double>>;
 
-Columns read_columns(const std::filesystem::path& file) {
+// Table values are forces (N), lengths (m) and times in SI; the bounds are the scenario's
+// (Reader::magnitude): a row Ux = 1e200 overflowed the solver's norms to a silent zero result.
+void check_value(const std::filesystem::path& file, long line, const std::string& column,
+                 double v) {
+  const double a = std::abs(v);
+  if (a == 0.0 || (a >= 1e-100 && a <= 1e100)) return;
+  throw InputError(file.string() + ":" + std::to_string(line) + ": " + column + " = " +
+                   format_number(v) +
+                   " is outside [1e-100, 1e100] in magnitude, the range the solver's arithmetic "
+                   "can carry (check the unit: SI)");
+}
+
+Columns read_columns(const std::filesystem::path& file, std::vector<long>& lines) {
   const csv::Table table = csv::read_table(file);
+  lines = table.lines;
   static const std::vector<std::string> known{"time", "Fz", "delta", "Fx", "Fy", "Ux", "Uy"};
   Columns cols;
   for (const auto& n : table.columns) {
@@ -23,19 +38,23 @@ Columns read_columns(const std::filesystem::path& file) {
     if (cols.count(n)) throw InputError(file.string() + ": column '" + n + "' appears twice");
     cols[n];
   }
-  for (const auto& row : table.rows)
-    for (std::size_t c = 0; c < row.size(); ++c) cols[table.columns[c]].push_back(row[c]);
+  for (std::size_t k = 0; k < table.rows.size(); ++k)
+    for (std::size_t c = 0; c < table.rows[k].size(); ++c) {
+      check_value(file, table.lines[k], table.columns[c], table.rows[k][c]);
+      cols[table.columns[c]].push_back(table.rows[k][c]);
+    }
   return cols;
 }
 
-void check_columns(const std::filesystem::path& file, const Columns& cols) {
+void check_columns(const std::filesystem::path& file, const Columns& cols,
+                   const std::vector<long>& lines) {
   const std::string f = file.string();
   if (!cols.count("time")) throw InputError(f + ": path table needs a 'time' column");
   const auto& t = cols.at("time");
   if (t.empty()) throw InputError(f + ": path table has no rows");
   for (std::size_t k = 1; k < t.size(); ++k)
     if (!(t[k] > t[k - 1]))
-      throw InputError(f + ":" + std::to_string(k + 2) + ": time must increase");
+      throw InputError(f + ":" + std::to_string(lines[k]) + ": time must increase");
   if (cols.count("Fz") && cols.count("delta")) throw InputError(f + ": give Fz or delta, not both");
   const bool force = cols.count("Fx") || cols.count("Fy");
   const bool disp = cols.count("Ux") || cols.count("Uy");
@@ -45,8 +64,9 @@ void check_columns(const std::filesystem::path& file, const Columns& cols) {
 }  // namespace
 
 LoadPath read_load_table(const std::filesystem::path& file, const LoadSpec& spec, double) {
-  const Columns cols = read_columns(file);
-  check_columns(file, cols);
+  std::vector<long> lines;
+  const Columns cols = read_columns(file, lines);
+  check_columns(file, cols, lines);
   const auto& t = cols.at("time");
   auto col = [&](const char* n, std::size_t k) { return cols.count(n) ? cols.at(n)[k] : 0.0; };
   const bool disp = cols.count("Ux") || cols.count("Uy");
@@ -67,7 +87,7 @@ LoadPath read_load_table(const std::filesystem::path& file, const LoadSpec& spec
                        ": no normal load: add an Fz or delta column, or set "
                        "load.normal_force or load.indentation");
     if (!(normal.value > 0.0))
-      throw InputError(file.string() + ":" + std::to_string(k + 2) +
+      throw InputError(file.string() + ":" + std::to_string(lines[k]) +
                        ": the normal load must be positive");
     const Vec2 target = disp ? Vec2(col("Ux", k), col("Uy", k)) : Vec2(col("Fx", k), col("Fy", k));
     if (k == 0) path.steps.push_back({t[0], 0, normal, control, Vec2::Zero(), false, false});

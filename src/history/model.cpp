@@ -7,6 +7,7 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/resources.hpp"
+#include "fretbem/history/preflight.hpp"
 
 namespace fretbem {
 
@@ -100,13 +101,21 @@ bool stiffness_wanted(const Model& model, int step, bool turning) {
   return model.scenario.solver.stiffness == StiffnessMode::every || step == 0 || turning;
 }
 
-std::unique_ptr<Model> build_model(const Scenario& sc) {
+std::unique_ptr<Model> prepare_model(const Scenario& sc) {
   check_memory(sc);  // before the surface, kernels and FFT buffers are allocated
   auto m = std::make_unique<Model>();
   m->scenario = sc;
   m->path = make_load_path(sc);
   m->surface0 = make_surface(sc);
   m->surface = m->surface0;
+  check_before_solve(sc, m->path, m->surface0);
+  m->wear = make_wear_model(sc.wear);
+  m->friction = make_friction_law(sc.friction, sc.material.mu);
+  return m;
+}
+
+std::unique_ptr<Model> build_model(const Scenario& sc) {
+  auto m = prepare_model(sc);
   FftOptions fft;
   fft.threads = sc.solver.threads > 0 ? sc.solver.threads : default_threads(sc.grid);
   fft.measure = sc.solver.fft_measure;
@@ -134,7 +143,6 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
         *m->tangential_operator,
         std::max({sc.solver.tolerance, 1e-9, m->half_space->min_tolerance()}),
         sc.solver.max_iterations, sc.solver.precondition);
-  m->wear = make_wear_model(sc.wear);
   return m;
 }
 

@@ -1,5 +1,7 @@
 #include "fretbem/history/observables.hpp"
 
+#include "fretbem/history/resolution.hpp"
+
 namespace fretbem {
 
 const std::vector<std::string>& StepRecord::columns() {
@@ -24,7 +26,11 @@ const std::vector<std::string>& StepRecord::columns() {
                                           "normal_residual",
                                           "tangential_residual",
                                           "convolutions",
-                                          "turning"};
+                                          "turning",
+                                          "stuck_at_bound_area",
+                                          "slip_ring_cells",
+                                          "contact_nodes",
+                                          "edge_load_share"};
   return c;
 }
 
@@ -50,12 +56,16 @@ std::vector<double> StepRecord::values() const {
           normal_residual,
           tangential_residual,
           double(convolutions),
-          turning ? 1.0 : 0.0};
+          turning ? 1.0 : 0.0,
+          stuck_at_bound_area,
+          slip_ring_cells,
+          double(contact_nodes),
+          edge_load_share};
 }
 
 StepRecord StepRecord::from_values(const std::vector<double>& v) {
   StepRecord r;
-  if (v.size() != columns().size()) return r;
+  if (v.size() < 22) return r;  // the 22 columns every version wrote; later ones may be absent
   r.step = int(v[0]), r.time = v[1], r.cycle = int(v[2]);
   r.Fz = v[3], r.delta = v[4], r.Fx = v[5], r.Fy = v[6], r.Ux = v[7], r.Uy = v[8];
   r.contact_area = v[9], r.stick_area = v[10], r.slip_area = v[11], r.Fx_stick = v[12];
@@ -63,14 +73,22 @@ StepRecord StepRecord::from_values(const std::vector<double>& v) {
   r.normal_iterations = int(v[16]), r.tangential_iterations = int(v[17]);
   r.normal_residual = v[18], r.tangential_residual = v[19], r.convolutions = int(v[20]);
   r.turning = v[21] != 0.0;
+  if (v.size() > 22) r.stuck_at_bound_area = v[22];
+  if (v.size() > 25)
+    r.slip_ring_cells = v[23], r.contact_nodes = long(v[24]), r.edge_load_share = v[25];
   return r;
 }
 
 void measure_areas(const InterfaceState& s, const TangentialOperator& op, StepRecord& r) {
   const double a = op.grid().cell_area();
-  const auto stick = (s.state == std::uint8_t(NodeState::stick));
+  // Stick: did not slip in this step, inside the bound or on it (issue 17 §2).
+  const auto at_bound = (s.state == std::uint8_t(NodeState::stuck_at_bound));
+  const auto stick = (s.state == std::uint8_t(NodeState::stick)) || at_bound;
   const auto slip = (s.state == std::uint8_t(NodeState::slip));
   r.stick_area = stick.count() * a;
+  r.stuck_at_bound_area = at_bound.count() * a;
+  r.slip_ring_cells = slip_ring_cells(s.state);
+  r.contact_nodes = contact_nodes(s.state);
   r.slip_area = slip.count() * a;
   r.contact_area = r.stick_area + r.slip_area;
   // x component of the traction in global axes.

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "fretbem/contact/monotone_shortcut.hpp"
+#include "fretbem/history/resolution.hpp"
 
 namespace fretbem {
 
@@ -27,7 +28,7 @@ StepperMemory Stepper::memory() const {
 
 void Stepper::restore(const InterfaceState& state, const StepperMemory& m) {
   state_ = state;
-  bound_ = model_.scenario.material.mu * state_.pressure;
+  model_.friction->bound(state_, bound_);
   next_ = m.next_step;
   last_normal_ = m.last_normal;
   last_target_ = m.last_target;
@@ -49,12 +50,16 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
   rec.time = ls.time;
   rec.cycle = ls.cycle;
   rec.turning = ls.turning;
-  const bool bound_changed = normal_step(ls, rec);
+  bool bound_changed = normal_step(ls, rec);
+  bound_moved_ = bound_changed;
+  if (!bound_changed && k > 0 && model_.friction->evolves()) bound_changed = friction_step();
+  bool incremented = false;
   if (k > 0 && shortcut_applies(k))
-    shortcut_step(ls, rec);
+    shortcut_step(ls, rec), incremented = true;
   else if (k > 0)
-    tangential_step(ls, bound_changed, rec);
-  state_.classify(bound_, model_.scenario.solver.tolerance);
+    incremented = tangential_step(ls, bound_changed, rec);
+  // No increment (the initial loading, an unchanged load): nothing slips in this step.
+  if (!incremented) state_.classify(bound_, model_.scenario.solver.tolerance, Field(), 0.0);
   rec.Fz = state_.normal_force;
   rec.delta = state_.indentation;
   const TangentialOperator& op = *model_.tangential_operator;
@@ -67,6 +72,7 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
   measure_areas(state_, op, rec);
   rec.kx = std::numeric_limits<double>::quiet_NaN();
   if (stiffness_wanted(model_, k, ls.turning)) rec.kx = model_.stiffness->solve(state_.state).kx;
+  rec.edge_load_share = model_.scenario.grid.periodic ? 0.0 : edge_load_share(state_.pressure);
   rec.dissipation = dissipation_;
   rec.wear_volume = wear_volume_;
   rec.convolutions = int(hs.convolutions() - conv0);
@@ -90,15 +96,29 @@ bool Stepper::normal_step(const LoadStep& ls, StepRecord& rec) {
   surface_changed_ = false;
   state_.normal_force = r.force;
   state_.indentation = r.indentation + datum;
-  bound_ = model_.scenario.material.mu * state_.pressure;
+  bound_start_.swap(bound_);  // the bound at the start of the step (dissipation, below)
+  model_.friction->bound(state_, bound_);
+  check_edge_contact(model_.scenario, edge_load_share(state_.pressure),
+                     "step " + std::to_string(rec.step));
   rec.normal_iterations = r.iterations;
   rec.normal_residual = r.residual;
   return true;
 }
 
+// A friction law that evolves moves the bound between steps (never within one: the increment
+// stays convex). Returns whether it changed; the step's bound then counts as fixed, so the
+// dissipation takes tau . s (no trapezoid: nothing moved within the step).
+bool Stepper::friction_step() {
+  Field g;
+  model_.friction->bound(state_, g);
+  if ((g == bound_).all()) return false;
+  bound_.swap(g);
+  return true;
+}
+
 // One tangential increment, skipped when neither its load nor the bound changed (the QP's
-// solution is then the previous traction).
-void Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec) {
+// solution is then the previous traction). Returns whether an increment ran.
+bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec) {
   TangentialOperator& op = *model_.tangential_operator;
   TangentialIncrement inc;
   const VecField tau0 = state_.traction, u0 = state_.displacement;
@@ -117,20 +137,21 @@ void Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
                          (inc.control == TangentialControl::force ? last_target_ == inc.target
                                                                   : inc.target.isZero(0.0));
   last_target_ = inc.target;
-  if (same_load && !bound_changed) return;
+  if (same_load && !bound_changed) return false;
   const TangentialResult r = model_.tangential->solve(inc, state_.traction, state_.displacement);
   rec.tangential_iterations = r.iterations;
   rec.tangential_residual = r.residual;
   state_.shift += op.to_global(r.shift);
-  state_.classify(bound_, model_.scenario.solver.tolerance);
-  accumulate_slip(u0, r.shift, rec);
+  accumulate_slip(u0, &tau0, r.shift, rec);
+  return true;
 }
 
 // solver.monotone = shortcut: steps on the virgin monotone segment that starts at step 0, at
 // constant normal load, with the one-component analogy operator.
 bool Stepper::shortcut_applies(std::size_t k) const {
   const Model& m = model_;
-  return m.scenario.solver.shortcut && m.tangential_operator->components() == 1 &&
+  return m.scenario.solver.shortcut && !m.friction->evolves() &&
+         m.tangential_operator->components() == 1 &&
          m.scenario.solver.coupling == Coupling::analogy && m.path.monotone(0, k);
 }
 
@@ -164,23 +185,34 @@ void Stepper::shortcut_step(const LoadStep& ls, StepRecord& rec) {
   rec.tangential_iterations = r.corrective.iterations;
   rec.tangential_residual = r.corrective.residual;
   last_target_ = op.to_local(ls.target * (ls.control == Control::force ? scale : 1.0));
-  state_.classify(bound_, model_.scenario.solver.tolerance);
-  accumulate_slip(u0, dU, rec);
+  accumulate_slip(u0, nullptr, dU, rec);  // constant normal load: the bound did not move
 }
 
 // Slip increment s = dU - (u - u0) per slip node (stick nodes do not slip: what the solver
-// leaves there is its residual); Coulomb dissipation tau . s with the end-of-step traction
-// (exact: a node slips only at the bound). The wear law, when there is one, takes the same s.
-void Stepper::accumulate_slip(const VecField& u0, const Eigen::VectorXd& dU, StepRecord&) {
+// leaves there is its residual); the node states of the step follow from it (issue 17 §2).
+// Coulomb dissipation: a slipping node carries its bound g, so its work over the step is the
+// integral of g |ds|, which tau . s = g1 |s| (end-of-step traction) gives exactly while the bound
+// stays put. The wear law takes the same s.
+void Stepper::accumulate_slip(const VecField& u0, const VecField* tau0, const Eigen::VectorXd& dU,
+                              StepRecord&) {
   const int nc = int(state_.traction.size());
-  Field work = Field::Zero(bound_.rows(), bound_.cols());
-  Field len2 = work;
-  const Field slipping = (state_.state == std::uint8_t(NodeState::slip)).cast<double>();
   VecField s(nc);
+  Field len2 = Field::Zero(bound_.rows(), bound_.cols());
   for (int c = 0; c < nc; ++c) {
-    s[c] = slipping * (dU(c) - (state_.displacement[c] - u0[c]));
+    s[c] = dU(c) - (state_.displacement[c] - u0[c]);
+    len2 += s[c].square();
+  }
+  const bool moving = bound_moved_ && tau0 && bound_start_.size() == bound_.size();
+  const StateField before = moving ? state_.state : StateField();
+  state_.classify(bound_, model_.scenario.solver.tolerance, len2.sqrt(), slip_threshold());
+  Field work = moving ? moving_bound_work(before, *tau0, s) : Field();
+  const Field slipping = (state_.state == std::uint8_t(NodeState::slip)).cast<double>();
+  if (!moving) work = Field::Zero(bound_.rows(), bound_.cols());
+  len2.setZero();
+  for (int c = 0; c < nc; ++c) {
+    s[c] *= slipping;
     state_.slip[c] += s[c];
-    work += state_.traction[c] * s[c];
+    if (!moving) work += state_.traction[c] * s[c];
     len2 += s[c].square();
   }
   state_.slip_path += len2.sqrt();
@@ -191,6 +223,46 @@ void Stepper::accumulate_slip(const VecField& u0, const Eigen::VectorXd& dU, Ste
   const Field dh = model_.wear->increment(state_.pressure, state_.traction, s);
   state_.wear += dh;
   wear_volume_ += dh.sum() * h2;
+}
+
+// Work per node over a step in which the bound moved from g0 to g1 (a varying normal load):
+// g1 |s| alone is first order in the step. Coulomb's law at a moving bound, node by node:
+// - slipping before and after the step's start: trapezoid (g0 + g1)/2 |s| = tau . s
+//   (g0 + g1)/(2 g1), second order;
+// - starting to slip within the step: tau . s (it reached its bound during the step);
+// - losing contact within the step: its traction relaxes with the bound to zero, tau0 . s / 2.
+// Over a steady cycle the sum converges at second order to the F-U loop area (test_history_
+// physics: ratio ~4 per halving of the step).
+Field Stepper::moving_bound_work(const StateField& before, const VecField& tau0,
+                                 const VecField& s) const {
+  const auto slip = std::uint8_t(NodeState::slip);
+  Field dot = Field::Zero(bound_.rows(), bound_.cols()), released = dot;
+  for (std::size_t c = 0; c < s.size(); ++c) {
+    dot += state_.traction[c] * s[c];
+    released += 0.5 * tau0[c] * s[c];
+  }
+  const Field trapezoid = (bound_start_ + bound_) / (2.0 * bound_.max(1e-300));
+  const Field factor = (before == slip).select(trapezoid, 1.0);
+  return (state_.state == slip).select(dot * factor, (bound_ == 0.0).select(released, 0.0));
+}
+
+// Slip threshold of the state classification (m): the solver stops when the rms over the N
+// contact nodes of the Coulomb-law violation is below tolerance x |C g| (rms over contact), so a
+// single node's error can reach sqrt(N) times that; kSlipThreshold is the margin on top.
+// |C g| costs one convolution, recomputed only when the bound changed.
+double Stepper::slip_threshold() {
+  if (scale_bound_.size() != bound_.size() || !(scale_bound_ == bound_).all()) {
+    scale_bound_ = bound_;
+    TangentialOperator& op = *model_.tangential_operator;
+    VecField load = op.zeros(), u;
+    load[0] = bound_;
+    op.apply(load, u);
+    const Field contact = (bound_ > 0.0).cast<double>();
+    const double n = contact.sum();
+    const double scale = n > 0.0 ? std::sqrt((contact * u[0].square()).sum() / n) : 0.0;
+    slip_threshold_ = kSlipThreshold * std::sqrt(n) * model_.scenario.solver.tolerance * scale;
+  }
+  return slip_threshold_;
 }
 
 }  // namespace fretbem

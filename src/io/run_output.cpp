@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/history/resolution.hpp"
 #include "fretbem/io/xdmf_writer.hpp"
 
 namespace fretbem {
@@ -15,6 +16,13 @@ namespace {
 Field global_component(const VecField& v, const TangentialOperator& op, int c) {
   if (op.components() == 2) return v[c];
   return v[0] * (c == 0 ? op.direction().x() : op.direction().y());
+}
+
+// 0 open, 1 stick, 2 slip (DESIGN §4): stuck-at-bound nodes did not slip, so they are stick.
+Field state_field(const StateField& state) {
+  const StateField at_bound =
+      StateField::Constant(state.rows(), state.cols(), std::uint8_t(NodeState::stuck_at_bound));
+  return (state == at_bound).select(double(NodeState::stick), state.cast<double>());
 }
 
 void check_finite(const StepRecord& rec, bool kx_on) {
@@ -37,7 +45,7 @@ std::map<std::string, Field> output_fields(const std::vector<std::string>& names
     if (n == "pressure") out[n] = s.pressure;
     if (n == "traction_x") out[n] = global_component(s.traction, op, 0);
     if (n == "traction_y") out[n] = global_component(s.traction, op, 1);
-    if (n == "state") out[n] = s.state.cast<double>();
+    if (n == "state") out[n] = state_field(s.state);
     if (n == "slip_x") out[n] = global_component(s.slip, op, 0);
     if (n == "slip_y") out[n] = global_component(s.slip, op, 1);
     if (n == "dissipation") out[n] = s.dissipation;
@@ -83,6 +91,7 @@ ResultFile::ResultFile(const std::filesystem::path& dir, const Model& m, long re
     h5_.truncate_timeseries(std::size_t(resume_rows));
     return;
   }
+  h5_.write_text("/run_id", m.run_id);
   h5_.write_text("/scenario", m.scenario.resolved_text);
   h5_.write_field("/surface/initial", m.surface0);
   h5_.start_timeseries(StepRecord::columns());
@@ -110,16 +119,20 @@ void ResultFile::write_xdmf() const {
 }
 
 const std::vector<std::string>& CycleSummary::columns() {
-  static const std::vector<std::string> c{"cycle",     "steps",        "dissipated_energy",
-                                          "loop_area", "Fx_amplitude", "Ux_amplitude",
-                                          "kx_at_max", "kx_at_min",    "slip_area_at_peak"};
+  static const std::vector<std::string> c{"cycle",           "steps",         "dissipated_energy",
+                                          "loop_area",       "Fx_amplitude",  "Ux_amplitude",
+                                          "kx_at_max",       "kx_at_min",     "slip_area_at_peak",
+                                          "slip_ring_cells", "contact_nodes", "a_over_h"};
   return c;
 }
 
 CycleSummary::CycleSummary(const std::filesystem::path& dir, long resume_rows)
     : csv_(open_csv(dir, "cycles", columns(), resume_rows)) {}
 
-void CycleSummary::on_step(const StepRecord& r, const InterfaceState&, const Model&) {
+void CycleSummary::on_step(const StepRecord& r, const InterfaceState&, const Model& m) {
+  // Ramps and normal-only paths have no cycles: the file keeps its header only (issue 18).
+  const PathType path = m.scenario.load.path;
+  if (path == PathType::none || path == PathType::ramp) return;
   if (!have_prev_ || r.step == 0) {
     prev_ = r, have_prev_ = true;
     return;
@@ -129,7 +142,15 @@ void CycleSummary::on_step(const StepRecord& r, const InterfaceState&, const Mod
     flush_cycle();
     cycle_ = cycle, diss0_ = prev_.dissipation, loop_ = 0, steps_ = 0, peak_ = -1;
     fmin_ = fmax_ = prev_.Fx, umin_ = umax_ = prev_.Ux;
+    ring_ = -1, ring_at_peak_ = false;
   }
+  // Resolution at the cycle's load peaks (the narrowest ring), else at its last step.
+  if (load_peak(r, prev_) && (ring_ < 0 || r.slip_ring_cells < ring_ || !ring_at_peak_))
+    ring_ = r.slip_ring_cells, ring_nodes_ = r.contact_nodes, ring_at_peak_ = true,
+    ring_radius_ = std::sqrt(r.contact_area / M_PI) / m.scenario.grid.h;
+  if (!ring_at_peak_)
+    ring_ = r.slip_ring_cells, ring_nodes_ = r.contact_nodes,
+    ring_radius_ = std::sqrt(r.contact_area / M_PI) / m.scenario.grid.h;
   // Work of the tangential force over the step (trapezoid): the loop area over a cycle.
   loop_ +=
       0.5 * (r.Fx + prev_.Fx) * (r.Ux - prev_.Ux) + 0.5 * (r.Fy + prev_.Fy) * (r.Uy - prev_.Uy);
@@ -145,7 +166,8 @@ void CycleSummary::on_step(const StepRecord& r, const InterfaceState&, const Mod
 void CycleSummary::flush_cycle() {
   if (cycle_ < 0 || steps_ == 0) return;
   csv_.row({double(cycle_), double(steps_), prev_.dissipation - diss0_, loop_,
-            0.5 * (fmax_ - fmin_), 0.5 * (umax_ - umin_), k_at_max_, k_at_min_, slip_at_peak_});
+            0.5 * (fmax_ - fmin_), 0.5 * (umax_ - umin_), k_at_max_, k_at_min_, slip_at_peak_,
+            ring_, double(ring_nodes_), ring_radius_});
 }
 
 void CycleSummary::on_finish(const InterfaceState&, const Model&) {

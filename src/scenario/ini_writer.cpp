@@ -50,7 +50,7 @@ void write_material(IniWriter& w, const Material& m) {
   w.put("mu", m.mu);
 }
 
-void write_grid(IniWriter& w, const Grid& g) {
+void write_grid(IniWriter& w, const Grid& g, bool allow_edge_contact) {
   w.section("grid");
   if (g.nx == g.ny) {
     w.put("n", g.nx);
@@ -60,6 +60,7 @@ void write_grid(IniWriter& w, const Grid& g) {
   }
   w.put("length", g.length_x());
   w.put("periodic", g.periodic);
+  w.put("allow_edge_contact", allow_edge_contact);
 }
 
 void write_surface(IniWriter& w, const SurfaceSpec& s) {
@@ -143,6 +144,17 @@ void write_wear(IniWriter& w, const WearSpec& s) {
   w.put("indenter_share", s.indenter_share);
 }
 
+void write_friction(IniWriter& w, const FrictionSpec& f) {
+  static const char* laws[] = {"constant", "static_kinetic", "evolving"};
+  w.section("friction");
+  w.put("law", std::string(laws[static_cast<int>(f.law)]));
+  w.put("mu_kinetic", f.mu_kinetic > 0 ? std::optional<double>(f.mu_kinetic) : std::nullopt);
+  w.put("mu_final", f.mu_final > 0 ? std::optional<double>(f.mu_final) : std::nullopt);
+  w.put("evolution",
+        std::string(f.variable == FrictionVariable::dissipation ? "dissipation" : "slip_path"));
+  w.put("scale", f.scale > 0 ? std::optional<double>(f.scale) : std::nullopt);
+}
+
 }  // namespace
 
 std::string resolved_text(const Scenario& s) {
@@ -150,12 +162,13 @@ std::string resolved_text(const Scenario& s) {
   w.raw("# fretbem " FRETBEM_VERSION " resolved scenario '" + s.name + "'");
   w.raw("# relative paths below were resolved against the scenario's folder");
   write_material(w, s.material);
-  write_grid(w, s.grid);
+  write_grid(w, s.grid, s.allow_edge_contact);
   write_surface(w, s.surface);
   write_load(w, s.load);
   write_solver(w, s.solver);
   write_output(w, s.output);
   write_wear(w, s.wear);
+  write_friction(w, s.friction);
   return w.str();
 }
 

@@ -10,7 +10,7 @@
 namespace fretbem::scenario_detail {
 
 const std::vector<std::string> kSections = {"material", "grid",   "surface", "load",
-                                            "solver",   "output", "wear"};
+                                            "solver",   "output", "wear",    "friction"};
 
 const std::vector<std::string> kKeys = {
     "material.E",
@@ -23,6 +23,7 @@ const std::vector<std::string> kKeys = {
     "grid.ny",
     "grid.length",
     "grid.periodic",
+    "grid.allow_edge_contact",
     "surface.type",
     "surface.radius",
     "surface.hurst",
@@ -68,6 +69,11 @@ const std::vector<std::string> kKeys = {
     "wear.atol",
     "wear.newton",
     "wear.indenter_share",
+    "friction.law",
+    "friction.mu_kinetic",
+    "friction.mu_final",
+    "friction.evolution",
+    "friction.scale",
 };
 
 const std::vector<std::string> kFieldNames = {"pressure", "traction_x", "traction_y",  "state",
@@ -103,9 +109,12 @@ std::string_view short_name(std::string_view key) {
 std::string suggestion(std::string_view key, const std::vector<std::string>& names) {
   std::string best;
   std::size_t best_score = std::numeric_limits<std::size_t>::max();
+  // Case-blind: `NU` is one capital away from material.nu but two edits from material.E.
+  const std::string k = lower(std::string(key));
   for (const auto& name : names) {
+    const std::string n = lower(name);
     const std::size_t score =
-        std::min(edit_distance(key, name), edit_distance(short_name(key), short_name(name)) + 1);
+        std::min(edit_distance(k, n), edit_distance(short_name(k), short_name(n)) + 1);
     if (score < best_score) best_score = score, best = name;
   }
   const std::size_t limit = std::max<std::size_t>(2, short_name(key).size() / 3);
@@ -122,7 +131,8 @@ void reject_unknown(const std::string& key, const std::string& where) {
   const std::string section = key.substr(0, dot);
   if (std::find(kSections.begin(), kSections.end(), section) == kSections.end()) {
     std::string hint = suggestion(section, kSections);
-    if (hint.empty()) hint = " (sections: material, grid, surface, load, solver, output, wear)";
+    if (hint.empty())
+      hint = " (sections: material, grid, surface, load, solver, output, wear, friction)";
     throw InputError(where + ": unknown section [" + printable(section) + "] in key '" +
                      printable(key) + "'" + hint);
   }

@@ -26,18 +26,23 @@ Scenario parse_scenario(const std::string& text, const std::string& name,
                         const std::filesystem::path& base_dir,
                         const std::vector<std::string>& overrides) {
   Reader r(name);
-  read_file_entries(text, r);
+  // A UTF-8 byte-order mark (some Windows editors write one) is not part of the first key.
+  const std::string_view bom = "\xEF\xBB\xBF";
+  read_file_entries(text.starts_with(bom) ? text.substr(bom.size()) : text, r);
   for (const auto& o : overrides) apply_override(o, r);
 
   Scenario s;
   s.name = fs::path(name).stem().string();
   read_material(r, s.material);
   read_grid(r, s.grid);
+  if (r.has("grid.allow_edge_contact")) s.allow_edge_contact = r.boolean("grid.allow_edge_contact");
   read_surface(r, base_dir, s.surface);
   read_load(r, base_dir, s.load);
   read_solver(r, s.solver);
   read_output(r, s.output);
   read_wear(r, s.wear);
+  s.given_keys = r.keys();
+  read_friction(r, s.load, s.material.mu, s.friction);
   s.resolved_text = resolved_text(s);
   return s;
 }

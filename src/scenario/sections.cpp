@@ -23,6 +23,11 @@ namespace {
 constexpr long long kMaxSide = 65536;
 constexpr long long kMaxNodes = 1LL << 28;
 
+// 0 means "none" for the wavelength keys; anything else is a dimensional value.
+double zero_or_magnitude(const Reader& r, const std::string& key) {
+  return r.real_in(key, 0.0, false) == 0.0 ? 0.0 : r.magnitude(key);
+}
+
 }  // namespace
 
 void read_file_entries(const std::string& text, Reader& r) {
@@ -62,11 +67,11 @@ void apply_override(const std::string& text, Reader& r) {
 void read_material(const Reader& r, Material& m) {
   r.require("material.E");
   r.require("material.nu");
-  m.body1 = Body{r.positive("material.E"), r.real_in("material.nu", 0.0, false, 0.5, true)};
+  m.body1 = Body{r.magnitude("material.E"), r.real_in("material.nu", 0.0, false, 0.5, true)};
   if (r.has("material.E2") != r.has("material.nu2"))
     r.fail("material.E2 and material.nu2 describe the second body: give both or neither");
   if (r.has("material.E2"))
-    m.body2 = Body{r.positive("material.E2"), r.real_in("material.nu2", 0.0, false, 0.5, true)};
+    m.body2 = Body{r.magnitude("material.E2"), r.real_in("material.nu2", 0.0, false, 0.5, true)};
   if (r.has("material.mu")) m.mu = r.positive("material.mu");
 }
 
@@ -80,22 +85,22 @@ void read_grid(const Reader& r, Grid& g) {
     r.fail("grid of " + std::to_string(nx) + " x " + std::to_string(ny) +
            " nodes is too large (at most 2^28 nodes)");
   r.require("grid.length");
-  const double length = r.positive("grid.length");
+  const double length = r.magnitude("grid.length");
   g = Grid{static_cast<int>(nx), static_cast<int>(ny), length / static_cast<double>(nx),
            r.has("grid.periodic") && r.boolean("grid.periodic")};
 }
 
 void read_rough(const Reader& r, RoughSpec& s) {
   if (r.has("surface.hurst")) s.hurst = r.real_in("surface.hurst", 0.0, true, 1.0, false);
-  if (r.has("surface.rms_height")) s.rms_height = r.positive("surface.rms_height");
-  if (r.has("surface.rms_slope")) s.rms_slope = r.positive("surface.rms_slope");
+  if (r.has("surface.rms_height")) s.rms_height = r.magnitude("surface.rms_height");
+  if (r.has("surface.rms_slope")) s.rms_slope = r.magnitude("surface.rms_slope");
   if (r.has("surface.method"))
     s.method = static_cast<RoughMethod>(r.choice("surface.method", {"midpoint", "fourier"}));
   if (r.has("surface.seed")) s.seed = r.unsigned64("surface.seed");
   if (r.has("surface.rolloff_wavelength"))
-    s.rolloff_wavelength = r.real_in("surface.rolloff_wavelength", 0.0, false);
+    s.rolloff_wavelength = zero_or_magnitude(r, "surface.rolloff_wavelength");
   if (r.has("surface.cutoff_wavelength"))
-    s.cutoff_wavelength = r.real_in("surface.cutoff_wavelength", 0.0, false);
+    s.cutoff_wavelength = zero_or_magnitude(r, "surface.cutoff_wavelength");
 }
 
 void check_rough(const Reader& r, const RoughSpec& s) {
@@ -115,7 +120,7 @@ void read_surface(const Reader& r, const fs::path& base, SurfaceSpec& s) {
   if (r.has("surface.type"))
     s.type =
         static_cast<SurfaceType>(r.choice("surface.type", {"sphere", "flat", "rough", "file"}));
-  if (r.has("surface.radius")) s.radius = r.positive("surface.radius");
+  if (r.has("surface.radius")) s.radius = r.magnitude("surface.radius");
   read_rough(r, s.rough);
   if (r.has("surface.dataset")) s.dataset = r.raw("surface.dataset");
   if (r.has("surface.layout"))
@@ -164,8 +169,8 @@ void check_table(const Reader& r, const LoadSpec& l) {
 }
 
 void read_load_values(const Reader& r, const fs::path& base, LoadSpec& l) {
-  if (r.has("load.normal_force")) l.normal_force = r.positive("load.normal_force");
-  if (r.has("load.indentation")) l.indentation = r.positive("load.indentation");
+  if (r.has("load.normal_force")) l.normal_force = r.magnitude("load.normal_force");
+  if (r.has("load.indentation")) l.indentation = r.magnitude("load.indentation");
   if (r.has("load.path"))
     l.path = static_cast<PathType>(r.choice("load.path", {"none", "ramp", "sine", "table"}));
   if (r.has("load.control"))
@@ -173,7 +178,8 @@ void read_load_values(const Reader& r, const fs::path& base, LoadSpec& l) {
   if (r.has("load.amplitude")) l.amplitude = r.real("load.amplitude");
   if (r.has("load.displacement_amplitude"))
     l.displacement_amplitude = r.real("load.displacement_amplitude");
-  if (r.has("load.direction")) l.direction = r.real("load.direction");
+  // Degrees; past 1e6 the angle reduced mod 360 keeps fewer than 10 digits.
+  if (r.has("load.direction")) l.direction = r.real_in("load.direction", -1e6, false, 1e6, false);
   if (r.has("load.cycles")) l.cycles = static_cast<int>(r.integer("load.cycles", 1, 1 << 30));
   if (r.has("load.steps_per_cycle"))
     l.steps_per_cycle = static_cast<int>(r.integer("load.steps_per_cycle", 4, 1 << 30));
@@ -190,9 +196,11 @@ void check_amplitudes(const Reader& r, const LoadSpec& l) {
                    "is impossible: a tangential force >= mu Fz cannot be held by friction "
                    "(gross sliding); use a value < 1, or load.control = displacement");
     if (l.amplitude <= 0.0) r.fail_value("load.amplitude", "is out of range (0, 1)");
+    // A fraction of mu Fz below 1e-100 is a tangential load the arithmetic cannot carry.
+    if (l.amplitude < kMinMagnitude) r.fail_value("load.amplitude", "is below 1e-100");
   } else {
     r.require("load.displacement_amplitude", " for a displacement-controlled ramp or sine");
-    if (l.displacement_amplitude <= 0.0) r.fail_value("load.displacement_amplitude", "must be > 0");
+    r.magnitude("load.displacement_amplitude");
   }
   if (l.path == PathType::sine &&
       static_cast<long long>(l.cycles) * l.steps_per_cycle > std::numeric_limits<int>::max())
@@ -295,8 +303,12 @@ void read_output(const Reader& r, OutputSpec& o) {
 void read_wear(const Reader& r, WearSpec& w) {
   if (r.has("wear.law"))
     w.law = static_cast<WearLaw>(r.choice("wear.law", {"none", "archard", "energy"}));
-  if (r.has("wear.coefficient")) w.coefficient = r.positive("wear.coefficient");
-  if (r.has("wear.cycles")) w.cycles = r.positive("wear.cycles");
+  if (r.has("wear.coefficient")) w.coefficient = r.magnitude("wear.coefficient");
+  // The wear ODE runs in cycles with the rate averaged over one cycle: under one cycle there is
+  // no cycle to average (1e-300 failed inside ARKODE, flag -22), and past 2^53 the cycle count
+  // is no longer an exact double.
+  if (r.has("wear.cycles"))
+    w.cycles = r.real_in("wear.cycles", 1.0, false, 9007199254740992.0, false);
   if (r.has("wear.integrator"))
     w.integrator = static_cast<WearIntegrator>(
         r.choice("wear.integrator", {"arkode", "cycle", "erk", "dirk"}));
@@ -311,6 +323,37 @@ void read_wear(const Reader& r, WearSpec& w) {
   r.require("wear.cycles", " when wear.law is not none");
   if (w.integrator == WearIntegrator::cycle && w.cycles != std::floor(w.cycles))
     r.fail_value("wear.cycles", "is not a whole number (wear.integrator = cycle)");
+}
+
+void read_friction(const Reader& r, const LoadSpec& l, double mu, FrictionSpec& f) {
+  if (r.has("friction.law"))
+    f.law = static_cast<FrictionLawKind>(
+        r.choice("friction.law", {"constant", "static_kinetic", "evolving"}));
+  if (r.has("friction.mu_kinetic")) f.mu_kinetic = r.positive("friction.mu_kinetic");
+  if (r.has("friction.mu_final")) f.mu_final = r.positive("friction.mu_final");
+  if (r.has("friction.evolution"))
+    f.variable =
+        static_cast<FrictionVariable>(r.choice("friction.evolution", {"dissipation", "slip_path"}));
+  if (r.has("friction.scale")) f.scale = r.positive("friction.scale");
+  double lowest = mu;
+  if (f.law == FrictionLawKind::static_kinetic) {
+    r.require("friction.mu_kinetic", " for friction.law = static_kinetic");
+    lowest = std::min(mu, f.mu_kinetic);
+  }
+  if (f.law == FrictionLawKind::evolving) {
+    r.require("friction.mu_final", " for friction.law = evolving");
+    r.require("friction.scale", " for friction.law = evolving");
+    lowest = std::min(mu, f.mu_final);
+  }
+  // Force-controlled amplitudes are fractions of material.mu F_z: a law that lowers mu below
+  // the amplitude would ask friction for more than it can hold.
+  const bool force_path =
+      l.control == Control::force && (l.path == PathType::ramp || l.path == PathType::sine);
+  if (force_path && l.amplitude * mu >= lowest)
+    r.fail_value("load.amplitude", "times material.mu reaches the lowest friction coefficient " +
+                                       format_number(lowest) +
+                                       " of friction.law: friction could not hold the load; "
+                                       "lower it or use load.control = displacement");
 }
 
 }  // namespace fretbem::scenario_detail

@@ -18,6 +18,9 @@ void read_load(const Reader& r, const fs::path& base, LoadSpec& l);
 void read_solver(const Reader& r, SolverSpec& s);
 void read_output(const Reader& r, OutputSpec& o);
 void read_wear(const Reader& r, WearSpec& w);
+/// [friction]: the law and its parameters (mu is material.mu); checks force amplitudes against
+/// the lowest mu the law reaches.
+void read_friction(const Reader& r, const LoadSpec& l, double mu, FrictionSpec& f);
 
 /// The resolved scenario as INI text: every key with its final value, unset ones as comments.
 std::string resolved_text(const Scenario& s);

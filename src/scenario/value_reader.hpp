@@ -20,6 +20,9 @@ namespace fretbem::scenario_detail {
 
 namespace fs = std::filesystem;
 
+/// Bounds of every dimensional input (see Reader::magnitude).
+inline constexpr double kMinMagnitude = 1e-100, kMaxMagnitude = 1e100;
+
 std::string trim(std::string_view s);
 /// Values are echoed in one-line messages: no control characters, bounded length.
 std::string printable(std::string_view s);
@@ -38,6 +41,12 @@ class Reader {
   const std::string& file() const { return file_; }
   void set(const std::string& key, Entry e) { entries_[key] = std::move(e); }
   bool has(const std::string& key) const { return entries_.count(key) != 0; }
+  /// The keys given (file and overrides), sorted.
+  std::vector<std::string> keys() const {
+    std::vector<std::string> out;
+    for (const auto& [k, e] : entries_) out.push_back(k);
+    return out;
+  }
   const std::string& raw(const std::string& key) const { return entries_.at(key).value; }
 
   [[noreturn]] void fail(const std::string& problem) const {
@@ -81,6 +90,21 @@ class Reader {
                         ", " + format_number(hi) + (hi_open ? ")" : "]"));
   }
   double positive(const std::string& key) const { return real_in(key, 0.0, true); }
+
+  /// A positive dimensional quantity (SI) whose size the arithmetic can carry: within
+  /// [kMinMagnitude, kMaxMagnitude]. The solvers form products and quotients of up to three
+  /// inputs (E* delta h, F / h^2, r^2 / R, squared norms of n^2 values); with every factor
+  /// inside 1e+-100 each of them stays inside the double range (1e+-308) with margin, where
+  /// 1e-300 or 1e300 overflowed to inf/NaN residuals or underflowed to silent zero results
+  /// (issue 14, items 5 and 12).
+  double magnitude(const std::string& key) const {
+    const double v = positive(key);
+    if (v < kMinMagnitude || v > kMaxMagnitude)
+      fail_value(key,
+                 "is outside [1e-100, 1e100], the range the solver's arithmetic can carry "
+                 "(check the unit: SI)");
+    return v;
+  }
 
   long long integer(const std::string& key, long long lo, long long hi) const {
     const std::string s = raw(key);

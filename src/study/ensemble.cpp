@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <boost/math/distributions/students_t.hpp>
 #include <charconv>
 #include <chrono>
@@ -51,6 +52,10 @@ std::vector<double> parse_hurst_list(const std::string& list) {
     if (tok.empty() || r.ec != std::errc() || r.ptr != tok.data() + tok.size() ||
         !(v > 0 && v <= 1))
       throw InputError("--hurst: '" + tok + "' is not a Hurst exponent in (0, 1]");
+    // One member directory per (H, seed): a repeated H would run into the same directory
+    // and count its members twice (issue 14 item 10).
+    if (std::find(out.begin(), out.end(), v) != out.end())
+      throw InputError("--hurst: " + format_number(v) + " is listed twice");
     out.push_back(v);
   }
   if (out.empty()) throw InputError("--hurst: empty list");
@@ -74,6 +79,7 @@ std::vector<std::string> member_args(const EnsembleOptions& o, const Member& m) 
   std::vector<std::string> a{
       o.binary.string(),        "run",   o.scenario.string(), "--quiet", "--out",
       (o.out / m.dir).string(), "--set", "solver.threads=1"};
+  if (o.overwrite) a.push_back("--overwrite");
   for (const auto& s : o.sets) a.insert(a.end(), {"--set", s});
   a.insert(a.end(), {"--set", "surface.hurst=" + format_number(m.hurst), "--set",
                      "surface.seed=" + std::to_string(m.seed)});
@@ -266,7 +272,9 @@ int run_ensemble(const EnsembleOptions& opt) {
   if (o.hurst.empty()) throw InputError("ensemble: --hurst is required");
   if (o.seeds < 1) throw InputError("--seeds: must be >= 1, got " + std::to_string(o.seeds));
   if (o.jobs < 0) throw InputError("--jobs: must be >= 1, got " + std::to_string(o.jobs));
-  if (o.bins < 1) throw InputError("--bins: must be >= 1, got " + std::to_string(o.bins));
+  if (o.bins < 1 || o.bins > kMaxBins)
+    throw InputError("--bins: must be in [1, " + std::to_string(kMaxBins) + "], got " +
+                     std::to_string(o.bins));
   if (o.jobs == 0) o.jobs = int(std::max(1u, std::thread::hardware_concurrency()));
   if (o.binary.empty()) o.binary = fs::read_symlink("/proc/self/exe");
   // Validate every member's scenario up front (one line naming the key on bad input).
@@ -277,6 +285,11 @@ int run_ensemble(const EnsembleOptions& opt) {
     mu = load_scenario(o.scenario, sets).material.mu;
   }
   if (o.out.empty()) o.out = fs::path("out") / ("ensemble_" + o.scenario.stem().string());
+  std::error_code ec;
+  if (!o.overwrite && fs::exists(o.out / "members.csv", ec))
+    throw InputError(o.out.string() +
+                     ": holds the results of another ensemble (members.csv); "
+                     "pass --overwrite to replace them, or choose another --out");
   fs::create_directories(o.out);
   std::vector<Member> members;
   for (double H : o.hurst)

@@ -34,7 +34,7 @@ INI
 for alg in projected partition; do
   echo "== H = 0.1, n = $n, $alg"
   /usr/bin/time -f "wall %e s, peak RSS %M kB" "$build/fretbem" run "$out/h01.ini" \
-    --set solver.algorithm=$alg --out "$out/$alg" --quiet
+    --set solver.algorithm=$alg --out "$out/$alg" --overwrite --quiet
   cut -d, -f1,4,6,11,12,17,18 "$out/$alg/timeseries.csv"
 done
 rm -rf "$out"

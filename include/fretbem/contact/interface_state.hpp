@@ -8,8 +8,9 @@
 
 namespace fretbem {
 
-/// Contact state of a node (the `state` output field).
-enum class NodeState : std::uint8_t { open = 0, stick = 1, slip = 2 };
+/// Contact state of a node. The `state` output field writes open 0, stick 1, slip 2, with
+/// stuck_at_bound counted as stick (it did not slip).
+enum class NodeState : std::uint8_t { open = 0, stick = 1, slip = 2, stuck_at_bound = 3 };
 using StateField = Eigen::Array<std::uint8_t, Eigen::Dynamic, Eigen::Dynamic>;
 
 struct InterfaceState {
@@ -27,10 +28,12 @@ struct InterfaceState {
 
   /// All fields zero on the grid, with the operator's number of components.
   static InterfaceState zeros(const TangentialOperator& op);
-  /// Classifies nodes: open where p = 0, slip where |tau| >= mu p (1 - eps), stick otherwise.
-  /// eps is the stick tolerance (documented in README: slip nodes sit on the bound because the
-  /// solver projects them there; eps only guards round-off).
-  void classify(const Field& bound, double eps);
+  /// Classifies nodes by the state of the step, not by its history (issue 17 §2): open where
+  /// the bound g = 0; slip where the node is on its bound (|tau| >= g (1 - eps), eps the solver
+  /// tolerance guarding round-off) and its slip this step |s| exceeds slip_threshold (m);
+  /// stuck_at_bound where on the bound but not slipping; stick inside the bound.
+  /// step_slip: |s| per node (m); an empty field means no slip this step.
+  void classify(const Field& bound, double eps, const Field& step_slip, double slip_threshold);
 };
 
 }  // namespace fretbem

@@ -3,10 +3,12 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/contact/stiffness.hpp"
 #include "fretbem/contact/tangential_solver.hpp"
+#include "fretbem/friction/law.hpp"
 #include "fretbem/history/load_path.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/wear/law.hpp"
@@ -24,12 +26,21 @@ struct Model {
   std::unique_ptr<TangentialSolver> tangential;
   std::unique_ptr<StiffnessSolver> stiffness;  ///< null when solver.stiffness = none
   std::unique_ptr<WearModel> wear;             ///< null when wear.law = none
+  /// Identity of this run's outputs (result.h5 /run_id and the checkpoint's run_id): set
+  /// when a run starts, kept by a resume, so outputs of different runs are never mixed.
+  std::string run_id;
+  std::unique_ptr<FrictionLaw> friction;       ///< the Coulomb bound of every node
 };
 
 /// Whether the step with this index and turning flag reports kx (solver.stiffness): every
 /// step, or (turning) the ends of monotone segments — step 0, turning points and the path's
 /// last step, which the paths flag as turning.
 bool stiffness_wanted(const Model& model, int step, bool turning);
+/// Everything a run does before it allocates the operators: the memory guard, the load path
+/// (tables read), the surface (files read), the wear law and the pre-flight checks
+/// (preflight.hpp). `fretbem check` stops here; build_model goes on from here.
+std::unique_ptr<Model> prepare_model(const Scenario& sc);
+/// prepare_model, then the half-space operator and the solvers.
 /// Builds the surface and operators. The tangential operator is one-component (no y-solve)
 /// when the coupling is the analogy and the path is collinear.
 std::unique_ptr<Model> build_model(const Scenario& sc);

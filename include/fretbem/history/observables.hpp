@@ -22,6 +22,11 @@ struct StepRecord {
   double normal_residual = 0, tangential_residual = 0;
   int convolutions = 0;  ///< FFT convolutions this step used
   bool turning = false;  ///< turning point of the load path
+  /// Part of stick_area on its Coulomb bound without slipping this step (m^2).
+  double stuck_at_bound_area = 0;
+  double slip_ring_cells = 0;  ///< width of the slip zone in cells (resolution.hpp)
+  long contact_nodes = 0;      ///< nodes in contact
+  double edge_load_share = 0;  ///< share of F_z on the outermost cells (0 on periodic grids)
 
   /// Column names, in the order of values(); the first 18 are the DESIGN §4 contract.
   static const std::vector<std::string>& columns();

@@ -30,6 +30,12 @@ struct StepperMemory {
 
 class Stepper {
  public:
+  /// A node on its bound slips in a step when its slip exceeds kSlipThreshold x sqrt(contact
+  /// nodes) x the solver tolerance x the displacement scale rms |C g| (the largest one-node
+  /// error the solver's rms residual allows): below that the slip is the solver's error, not
+  /// motion (issue 17 §2).
+  static constexpr double kSlipThreshold = 4.0;
+
   explicit Stepper(Model& model);
   /// Runs the remaining steps of the path (at most max_steps of them), notifying the
   /// observers after each; on_finish only when the path is complete. Returns steps run.
@@ -51,14 +57,22 @@ class Stepper {
 
  private:
   bool normal_step(const LoadStep& ls, StepRecord& rec);
-  void tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec);
+  bool friction_step();
+  bool tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec);
   bool shortcut_applies(std::size_t k) const;
   void shortcut_step(const LoadStep& ls, StepRecord& rec);
-  void accumulate_slip(const VecField& u0, const Eigen::VectorXd& dU, StepRecord& rec);
+  void accumulate_slip(const VecField& u0, const VecField* tau0, const Eigen::VectorXd& dU,
+                       StepRecord& rec);
+  Field moving_bound_work(const StateField& before, const VecField& tau0, const VecField& s) const;
+  double slip_threshold();
 
   Model& model_;
   InterfaceState state_;
   Field bound_;
+  Field bound_start_;  ///< the bound before this step's normal solve (when it changed)
+  bool bound_moved_ = false;
+  Field scale_bound_;            ///< the bound slip_threshold_ belongs to
+  double slip_threshold_ = 0.0;  ///< slip of a slipping node in a step at least (m)
   std::optional<NormalLoad> last_normal_;
   Eigen::VectorXd last_target_;
   double dissipation_ = 0.0;

@@ -1,6 +1,8 @@
 // Checkpoint: the complete state of a run after a finished step, in DIR/checkpoint.h5, so that
-// `fretbem run --resume DIR` continues an interrupted run exactly where it stopped. Written to
-// a temporary file and renamed, so a kill mid-write leaves the previous checkpoint intact.
+// `fretbem run --resume DIR` continues an interrupted run exactly where it stopped. The file is
+// built in memory, written to DIR/checkpoint.h5.tmp with every write, the fsync and the close
+// checked, and only then renamed over the previous checkpoint: a full disk or a kill mid-write
+// leaves the previous checkpoint intact (docs/reliability.md, "Fault tests").
 #pragma once
 
 #include <filesystem>
@@ -12,23 +14,31 @@
 
 namespace fretbem {
 
+/// Layout version of checkpoint.h5 (dataset `format_version`); a reader refuses any other.
+/// 2: run_id and format_version added (issue 14).
+constexpr int kCheckpointFormat = 2;
+
 struct Checkpoint {
   std::string scenario_text;  ///< the resolved scenario of the run
+  std::string run_id;         ///< the run whose outputs this checkpoint belongs to
   InterfaceState state;
   StepperMemory memory;
   Field surface;                       ///< current (possibly worn) indenter height (m)
   std::optional<WearCheckpoint> wear;  ///< wear runs: where the wear integration stands
 };
 
-/// Writes DIR/checkpoint.h5 atomically; `wear` for wear runs (run_wear).
+/// Writes DIR/checkpoint.h5 atomically (tmp file, checked writes, fsync, rename); `wear` for
+/// wear runs (run_wear). Throws std::runtime_error naming the file when any write fails; the
+/// previous checkpoint is then untouched.
 void save_checkpoint(const std::filesystem::path& dir, const Model& model, const Stepper& stepper,
                      const WearCheckpoint* wear = nullptr);
-/// Reads DIR/checkpoint.h5 (InputError naming the file when missing or unreadable). The
-/// traction fields are shaped for `op` (same number of components as when saved).
+/// Reads DIR/checkpoint.h5 (InputError naming the file and dataset when missing, unreadable
+/// or internally inconsistent: any bytes give either a Checkpoint or an InputError). Checks
+/// against the scenario are validate_checkpoint's (resume_check.hpp).
 Checkpoint load_checkpoint(const std::filesystem::path& dir);
 
 /// Observer that checkpoints every `every` steps (0: every 10 s of run time), at turning
-/// points and after the last step.
+/// points (at most one per second of run time) and after the last step.
 class Checkpointer final : public Observer {
  public:
   Checkpointer(std::filesystem::path dir, const Stepper& stepper, int every);

@@ -46,8 +46,10 @@ class ResultFile final : public Observer {
 
 /// DIR/cycles.csv: per load cycle (period 1 in time) the energy dissipated (nodal sums), the
 /// loop area of the F-U path (trapezoid rule, x and y), force and shift amplitudes, k_x and the
-/// slip area at the cycle's turning points. A step's increment belongs to the cycle that
-/// contains its time interval (t_{k-1}, t_k].
+/// slip area at the cycle's turning points, and the resolution there (slip-ring width in cells,
+/// contact nodes, equivalent contact radius sqrt(A/pi)/h: a/h for a sphere). A step's increment
+/// belongs to the cycle that contains its time interval (t_{k-1}, t_k]. Ramps and normal-only
+/// paths have no cycles and write no rows.
 class CycleSummary final : public Observer {
  public:
   explicit CycleSummary(const std::filesystem::path& dir, long resume_rows = -1);
@@ -63,6 +65,9 @@ class CycleSummary final : public Observer {
   int cycle_ = -1;
   double diss0_ = 0, loop_ = 0, fmin_ = 0, fmax_ = 0, umin_ = 0, umax_ = 0;
   double k_at_max_ = 0, k_at_min_ = 0, slip_at_peak_ = 0, peak_ = -1;
+  double ring_ = -1, ring_radius_ = 0;
+  long ring_nodes_ = 0;
+  bool ring_at_peak_ = false;
   int steps_ = 0;
 };
 

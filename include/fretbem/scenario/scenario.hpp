@@ -103,9 +103,24 @@ struct WearSpec {
   double indenter_share = 1.0;
 };
 
+enum class FrictionLawKind { constant, static_kinetic, evolving };
+/// What an evolving mu follows: the node's accumulated dissipated energy density (J/m^2) or
+/// its accumulated slip path (m).
+enum class FrictionVariable { dissipation, slip_path };
+
+/// The friction keys of a scenario ([friction] section; mu itself is material.mu).
+struct FrictionSpec {
+  FrictionLawKind law = FrictionLawKind::constant;
+  double mu_kinetic = 0.0;  ///< static_kinetic: mu once a node slips (material.mu: while stuck)
+  double mu_final = 0.0;    ///< evolving: mu after a long history (material.mu: at the start)
+  FrictionVariable variable = FrictionVariable::dissipation;
+  double scale = 0.0;  ///< evolving: J/m^2 or m over which mu moves 1 - 1/e of the way
+};
+
 struct Scenario {
-  std::string name;           ///< file stem
-  std::string resolved_text;  ///< every key with its final value, INI syntax
+  std::string name;                     ///< file stem
+  std::string resolved_text;            ///< every key with its final value, INI syntax
+  std::vector<std::string> given_keys;  ///< keys the file and overrides set (sorted)
   Material material;
   Grid grid;
   SurfaceSpec surface;
@@ -113,6 +128,10 @@ struct Scenario {
   SolverSpec solver;
   OutputSpec output;
   WearSpec wear;
+  FrictionSpec friction;
+  /// grid.allow_edge_contact: run even when a free-boundary grid carries more than
+  /// kEdgeLoadShareLimit of the normal load on its outermost cells (issue 18).
+  bool allow_edge_contact = false;
 };
 
 /// Reads, merges overrides ("section.key=value", applied after the file) and validates.

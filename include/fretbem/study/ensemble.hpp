@@ -19,9 +19,14 @@ struct EnsembleOptions {
   std::filesystem::path out;
   std::filesystem::path binary;  ///< the fretbem executable members run (default: this one)
   bool quiet = false;
+  bool overwrite = false;  ///< replace an earlier ensemble's results in `out` (members too)
 };
 
-/// "0.1,0.3" -> {0.1, 0.3}; InputError naming --hurst on a bad list.
+/// Largest --bins: an aggregate row per bin and H; 10^4 bins already resolve F_x/(mu F_z)
+/// far below any member's load step (10^8 bins wrote a 17 GB file, issue 14 item 9).
+constexpr int kMaxBins = 10000;
+
+/// "0.1,0.3" -> {0.1, 0.3}; InputError naming --hurst on a bad list or a repeated value.
 std::vector<double> parse_hurst_list(const std::string& list);
 /// Member directory below the ensemble output: H0.3/seed_007.
 std::filesystem::path member_dir(double hurst, int seed);

@@ -1,0 +1,15 @@
+// What `fretbem check` prints about a prepared model (issue 19, "fretbem check"): the moduli,
+// the Hertz scales of a sphere, the full-sliding shift, steps and memory, wear's horizon, and
+// warnings on keys the chosen path or control ignores.
+#pragma once
+
+#include <string>
+
+#include "fretbem/history/model.hpp"
+
+namespace fretbem {
+
+/// Lines (each ending in '\n') after the "ok" line; a model from prepare_model is enough.
+std::string check_report(const Model& model);
+
+}  // namespace fretbem

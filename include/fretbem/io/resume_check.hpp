@@ -1,0 +1,36 @@
+// Whether a run's output directory may be written (fresh run) or continued (resume): the
+// checks that keep one run's results from being overwritten, mixed with another's, or
+// continued from a checkpoint that does not fit (docs/reliability.md, "Resume checks").
+// Every refusal is an InputError naming the file and the quantity.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+
+#include "fretbem/history/model.hpp"
+#include "fretbem/io/checkpoint.hpp"
+
+namespace fretbem {
+
+/// A fresh run id: 16 hex digits from the clock and a random device.
+std::string new_run_id();
+
+/// Before a fresh run into `dir`: refuses when `dir` holds another run's results
+/// (timeseries.csv, cycles.csv, result.h5 or checkpoint.h5) unless `overwrite`; with it,
+/// removes the old checkpoint so it can never be resumed against the new outputs.
+void prepare_output_dir(const std::filesystem::path& dir, bool overwrite);
+
+/// Refuses a checkpoint whose stored quantities do not fit the model built from its own
+/// scenario: field sizes, component count, finiteness, contact states, step counters.
+void validate_checkpoint(const Checkpoint& cp, const Model& model,
+                         const std::filesystem::path& file);
+
+/// Refuses outputs that do not belong to the checkpoint: result.h5 must carry the
+/// checkpoint's run id and at least `rows` time-series rows, and timeseries.csv at least
+/// `rows` well-formed rows equal to result.h5's (so a deleted, truncated, emptied or foreign
+/// file is refused, not patched).
+void check_resume_outputs(const std::filesystem::path& dir, const std::string& run_id,
+                          std::size_t rows);
+
+}  // namespace fretbem

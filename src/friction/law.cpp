@@ -1,0 +1,17 @@
+#include "fretbem/friction/law.hpp"
+
+namespace fretbem {
+
+std::unique_ptr<FrictionLaw> make_friction_law(const FrictionSpec& spec, double mu) {
+  switch (spec.law) {
+    case FrictionLawKind::static_kinetic:
+      return std::make_unique<StaticKineticFriction>(mu, spec.mu_kinetic);
+    case FrictionLawKind::evolving:
+      return std::make_unique<EvolvingFriction>(mu, spec);
+    case FrictionLawKind::constant:
+      break;
+  }
+  return std::make_unique<ConstantFriction>(mu);
+}
+
+}  // namespace fretbem

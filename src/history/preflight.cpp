@@ -1,0 +1,141 @@
+// Pre-flight checks of a prepared model (see preflight.hpp for what and why one path).
+#include "fretbem/history/preflight.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "fretbem/core/errors.hpp"
+#include "fretbem/core/format.hpp"
+
+namespace fretbem {
+
+namespace {
+
+// Past this many full-sliding shifts U* a displacement-controlled loop is gross sliding through
+// and through: the contact's elastic displacement (at most about U*) is then below 1e-6 of the
+// imposed shift, which keeps it two decades above the default relative tolerance (1e-8) of the
+// tangential residual; much further and the solve no longer resolves it. Measured before this
+// bound (issue 14, item 5): 1e150 m gave "residual -nan", 1e160-1e300 m exit 0 with Fx = Ux = 0
+// on every row.
+constexpr double kMaxShiftOverFullSliding = 1e6;
+
+void check_periodic_indentation(const Scenario& sc, const LoadPath& path) {
+  if (!sc.grid.periodic) return;
+  for (const auto& s : path.steps)
+    if (!s.normal.force_control)
+      throw InputError(
+          "grid.periodic = true with indentation control (load.indentation or a table "
+          "'delta' column): a periodic half-space has no finite mean displacement, so "
+          "use load.normal_force or an Fz column");
+}
+
+void check_wear_path(const Scenario& sc) {
+  if (sc.wear.law != WearLaw::none && sc.load.path != PathType::sine)
+    throw InputError("wear.law: a wear run needs a cyclic load (load.path = sine)");
+}
+
+// Table forces are in N; force control cannot go past full sliding (the solver refuses it at
+// the step, exit 3, after the earlier steps ran). Known before any solve when Fz is given.
+void check_table_friction(const Scenario& sc, const LoadPath& path) {
+  if (sc.load.path != PathType::table) return;
+  const double mu = sc.material.mu;
+  for (const auto& s : path.steps) {
+    if (s.control != Control::force || s.relative || !s.normal.force_control) continue;
+    const double limit = mu * s.normal.value;
+    if (s.target.norm() < limit) continue;
+    std::ostringstream msg;
+    msg << sc.load.table.string() << ": at time " << format_number(s.time)
+        << " the tangential force " << format_number(s.target.norm())
+        << " N is not below mu Fz = " << format_number(limit)
+        << " N (material.mu = " << format_number(mu)
+        << "): force control cannot go past full sliding; use Ux/Uy columns";
+    throw InputError(msg.str());
+  }
+}
+
+// Small-strain bounds (the model is linear elasticity): a normal force that strains even the
+// whole L x L domain by more than 1 (F / (E* L^2) >= 1), or an indentation deeper than the
+// domain is wide, cannot be a small-strain contact. These also keep the pressures and
+// displacements the solver forms within the range its arithmetic carries.
+void check_strain(const Scenario& sc, const ContactScales& s) {
+  const double L = sc.grid.h * sc.grid.nx, area = L * sc.grid.h * sc.grid.ny;
+  if (s.max_normal_force / (s.E_star * area) >= 1.0) {
+    std::ostringstream msg;
+    msg << "load.normal_force: " << format_number(s.max_normal_force)
+        << " N over the grid.length^2 domain is a mean pressure above E* = "
+        << format_number(s.E_star) << " Pa (strain above 1): raise material.E or grid.length, "
+        << "or lower the force";
+    throw InputError(msg.str());
+  }
+  if (s.max_indentation >= L)
+    throw InputError("load.indentation: " + format_number(s.max_indentation) +
+                     " m is not below grid.length = " + format_number(L) +
+                     " m (strain above 1): check the unit (m)");
+}
+
+void check_shift(const Scenario& sc, const ContactScales& s) {
+  // Where the approach is not known before a solve, the largest displacement scale stands in.
+  const double u_star = sc.material.mu * s.normal_displacement * s.E_star / s.G_star;
+  if (s.max_tangential_shift <= kMaxShiftOverFullSliding * u_star) return;
+  const std::string key = sc.load.path == PathType::table ? sc.load.table.string() + ": Ux/Uy"
+                                                          : "load.displacement_amplitude";
+  throw InputError(
+      key + ": a shift of " + format_number(s.max_tangential_shift) +
+      " m is over 1e6 times the full-sliding shift U* = mu delta E*/G* = " + format_number(u_star) +
+      " m: past that the solver cannot resolve the contact's elastic response; "
+      "the loop is pure gross sliding (check the unit: m)");
+}
+
+}  // namespace
+
+ContactScales contact_scales(const Scenario& sc, const LoadPath& path, const Field& surface) {
+  ContactScales s;
+  s.E_star = sc.material.E_star();
+  s.G_star = sc.material.G_star();
+  for (const auto& st : path.steps) {
+    (st.normal.force_control ? s.max_normal_force : s.max_indentation) =
+        std::max(st.normal.force_control ? s.max_normal_force : s.max_indentation, st.normal.value);
+    if (st.control == Control::displacement)
+      s.max_tangential_shift = std::max(s.max_tangential_shift, st.target.norm());
+  }
+  const double L = sc.grid.h * sc.grid.nx;
+  double delta = std::max(s.max_indentation, s.max_normal_force / (s.E_star * L));
+  if (sc.surface.type == SurfaceType::sphere && s.max_normal_force > 0.0) {
+    const double F = s.max_normal_force, R = sc.surface.radius;
+    s.hertz_a = std::cbrt(3.0 * F * R / (4.0 * s.E_star));
+    s.hertz_p0 = 3.0 * F / (2.0 * std::numbers::pi * s.hertz_a * s.hertz_a);
+    s.hertz_delta = s.hertz_a * s.hertz_a / R;
+    delta = std::max(delta, s.hertz_delta);
+  }
+  // The approach is known before a solve for a sphere (Hertz) or under indentation control.
+  const double known = std::max(s.max_indentation, s.hertz_delta);
+  s.full_sliding_shift = sc.material.mu * known * s.E_star / s.G_star;
+  if (surface.size() > 0) delta = std::max(delta, surface.maxCoeff() - surface.minCoeff());
+  s.normal_displacement = delta;
+  return s;
+}
+
+// Heights of a file surface: the bound of every dimensional input (scenario Reader::magnitude).
+void check_heights(const Scenario& sc, const Field& surface) {
+  if (surface.size() == 0) return;
+  const double top = surface.cwiseAbs().maxCoeff();
+  if (top <= 1e100) return;
+  throw InputError(
+      (sc.surface.type == SurfaceType::file ? sc.surface.file.string() : std::string("surface")) +
+      ": heights up to " + format_number(top) +
+      " m are outside the range the solver's arithmetic can carry (1e100)");
+}
+
+void check_before_solve(const Scenario& sc, const LoadPath& path, const Field& surface) {
+  check_heights(sc, surface);
+  check_periodic_indentation(sc, path);
+  check_wear_path(sc);
+  check_table_friction(sc, path);
+  const ContactScales s = contact_scales(sc, path, surface);
+  check_strain(sc, s);
+  check_shift(sc, s);
+}
+
+}  // namespace fretbem

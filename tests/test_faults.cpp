@@ -1,0 +1,410 @@
+// Fault tests (issue 14): a full disk, SIGKILL at random points, corrupted checkpoints,
+// outputs that do not belong to the checkpoint, a second run into the same --out, and
+// determinism of timeseries.csv. After each fault the last good checkpoint is intact and
+// --resume gives the uninterrupted run's rows (docs/reliability.md, "Fault tests").
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <signal.h>
+#include <sys/mount.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kBin = FRETBEM_BINARY;
+const std::string kScenario =
+    (fs::path(FRETBEM_SOURCE_DIR) / "scenarios" / "mindlin_cycle.ini").string();
+// Quick: n = 16, mindlin_cycle's 193 steps; fields and a checkpoint at every step.
+const std::string kQuick =
+    " --quiet --set grid.n=16 --set output.fields=pressure --set output.fields_every=1"
+    " --set output.checkpoint_every=1";
+
+struct Result {
+  int code = -1;  ///< exit code, or 128 + signal
+  std::string err;
+};
+
+Result run(const std::string& args, const fs::path& scratch) {
+  const fs::path errfile = scratch / "stderr.txt";
+  const int st = std::system((kBin + " " + args + " > /dev/null 2> " + errfile.string()).c_str());
+  Result r;
+  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+  std::ifstream in(errfile);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  r.err = ss.str();
+  return r;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<std::vector<std::string>> rows_of(const fs::path& csv) {
+  std::vector<std::vector<std::string>> rows;
+  std::ifstream in(csv);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string c;
+    while (std::getline(ss, c, ',')) cells.push_back(c);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+// The resumed run's rows equal the uninterrupted run's: byte-equal except `convolutions`
+// (work counter) and kx: the stiffness CG's warm start is not checkpointed, and two CG solves
+// stopped at relative residual 1e-9 from different starts differ by up to the condition
+// number times that (1.1e-8 relative seen at n = 16 after a full-disk stop): 1e-7.
+void expect_same_rows(const fs::path& a, const fs::path& b) {
+  const auto ra = rows_of(a / "timeseries.csv"), rb = rows_of(b / "timeseries.csv");
+  ASSERT_EQ(ra.size(), rb.size());
+  const auto& cols = ra[0];
+  for (std::size_t i = 1; i < ra.size(); ++i) {
+    ASSERT_EQ(ra[i].size(), rb[i].size()) << "row " << i;
+    for (std::size_t c = 0; c < cols.size(); ++c) {
+      if (cols[c] == "convolutions") continue;
+      if (cols[c] == "kx") {
+        EXPECT_NEAR(std::stod(ra[i][c]), std::stod(rb[i][c]), 1e-7 * std::abs(std::stod(ra[i][c])));
+        continue;
+      }
+      EXPECT_EQ(ra[i][c], rb[i][c]) << "row " << i << " column " << cols[c];
+    }
+  }
+  EXPECT_EQ(rows_of(a / "cycles.csv").size(), rows_of(b / "cycles.csv").size());
+}
+
+class Faults : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("fretbem_faults_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  // The uninterrupted reference run (once per test).
+  fs::path full() {
+    const fs::path f = dir_ / "full";
+    if (!fs::exists(f)) {
+      EXPECT_EQ(run("run " + kScenario + kQuick + " --out " + f.string(), dir_).code, 0);
+    }
+    return f;
+  }
+  fs::path dir_;
+};
+
+// Rewrites one double dataset of a checkpoint (1-D or 2-D, new shape allowed).
+void replace_dataset(const fs::path& file, const std::string& name, const std::vector<double>& v,
+                     std::vector<hsize_t> dims) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  H5Ldelete(f, name.c_str(), H5P_DEFAULT);
+  const hid_t s = H5Screate_simple(int(dims.size()), dims.data(), nullptr);
+  const hid_t d =
+      H5Dcreate2(f, name.c_str(), H5T_IEEE_F64LE, s, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), 0);
+  H5Dclose(d), H5Sclose(s);
+  ASSERT_GE(H5Fclose(f), 0);
+}
+
+std::vector<double> read_vector(const fs::path& file, const std::string& name) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t d = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+  const hid_t s = H5Dget_space(d);
+  std::vector<double> v(std::size_t(H5Sget_simple_extent_npoints(s)));
+  H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+  H5Sclose(s), H5Dclose(d), H5Fclose(f);
+  return v;
+}
+
+}  // namespace
+
+// A full disk (tmpfs of 120 KiB, when root): the run stops with one line naming the file and
+// exit 1 (no SIGSEGV), the checkpoint on disk is the last good one, and --resume elsewhere
+// gives the uninterrupted run's rows.
+TEST_F(Faults, FullDiskKeepsLastGoodCheckpoint) {
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root to mount a tmpfs";
+  const fs::path mnt = dir_ / "tmpfs";
+  fs::create_directories(mnt);
+  if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, "size=120k") != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here";
+  const Result r = run("run " + kScenario + kQuick + " --out " + (mnt / "r").string(), dir_);
+  const fs::path moved = dir_ / "moved";
+  fs::copy(mnt / "r", moved);
+  ::umount(mnt.c_str());
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find(mnt.string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(fs::exists(moved / "checkpoint.h5.tmp"));
+  ASSERT_TRUE(fs::exists(moved / "checkpoint.h5"));
+  ASSERT_EQ(run("run --resume " + moved.string() + " --quiet", dir_).code, 0);
+  expect_same_rows(full(), moved);
+}
+
+// SIGKILL at three random points (fixed seed) of a fields-every-step run: each time the
+// checkpoint is whole and --resume gives the uninterrupted run's rows.
+TEST_F(Faults, KillAtRandomPointsResumes) {
+  std::mt19937 rng(14);
+  std::uniform_int_distribution<int> rows_before_kill(3, 150);
+  const fs::path ref = full();
+  for (int trial = 0; trial < 3; ++trial) {
+    const fs::path part = dir_ / ("kill" + std::to_string(trial));
+    const std::size_t at = std::size_t(rows_before_kill(rng));
+    const std::string out = part.string();
+    const pid_t pid = fork();
+    if (pid == 0) {
+      execl(kBin.c_str(), kBin.c_str(), "run", kScenario.c_str(), "--quiet", "--set", "grid.n=16",
+            "--set", "output.fields=pressure", "--set", "output.fields_every=1", "--set",
+            "output.checkpoint_every=1", "--out", out.c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    for (int i = 0; i < 4000 && rows_of(part / "timeseries.csv").size() < at + 1; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(fs::exists(part / "checkpoint.h5")) << "kill after " << at << " rows";
+    const Result r = run("run --resume " + out + " --quiet", dir_);
+    ASSERT_EQ(r.code, 0) << "kill after " << at << " rows: " << r.err;
+    expect_same_rows(ref, part);
+  }
+}
+
+// Damaged checkpoints: exit 2 naming checkpoint.h5 (and the quantity), outputs untouched.
+TEST_F(Faults, CorruptedCheckpointsAreRefused) {
+  const fs::path good = dir_ / "good";
+  ASSERT_EQ(run("run " + kScenario + kQuick + " --stop-after 20 --out " + good.string(), dir_).code,
+            0);
+  const std::string csv = slurp(good / "timeseries.csv");
+  const std::string bytes = slurp(good / "checkpoint.h5");
+  struct Case {
+    std::string name, expect;
+    std::function<void(const fs::path&)> damage;
+  };
+  std::mt19937 rng(14);
+  const std::vector<Case> cases{
+      {"truncated", "checkpoint.h5",
+       [&](const fs::path& p) {
+         std::ofstream(p, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+       }},
+      {"zeros", "not an HDF5 file",
+       [&](const fs::path& p) {
+         std::ofstream(p, std::ios::binary) << std::string(bytes.size(), '\0');
+       }},
+      {"flipped bytes", "checkpoint.h5",
+       [&](const fs::path& p) {
+         std::string b = bytes;
+         for (std::size_t k = 0; k < b.size(); k += 1 + rng() % 97) b[k] = char(rng());
+         std::ofstream(p, std::ios::binary) << b;
+       }},
+      {"components 0", "scalars[4]",
+       [&](const fs::path& p) {
+         auto s = read_vector(p, "scalars");
+         s[4] = 0;
+         replace_dataset(p, "scalars", s, {5});
+       }},
+      {"components -1", "scalars[4]",
+       [&](const fs::path& p) {
+         auto s = read_vector(p, "scalars");
+         s[4] = -1;
+         replace_dataset(p, "scalars", s, {5});
+       }},
+      {"next_step -5", "next_step",
+       [&](const fs::path& p) {
+         auto m = read_vector(p, "memory");
+         m[0] = -5;
+         replace_dataset(p, "memory", m, {6});
+       }},
+      {"next_step NaN", "memory",
+       [&](const fs::path& p) {
+         auto m = read_vector(p, "memory");
+         m[0] = NAN;
+         replace_dataset(p, "memory", m, {6});
+       }},
+      {"next_step past the end", "next_step",
+       [&](const fs::path& p) {
+         auto m = read_vector(p, "memory");
+         m[0] = 1e6;
+         replace_dataset(p, "memory", m, {6});
+       }},
+      {"pressure of another grid", "pressure",
+       [&](const fs::path& p) {
+         replace_dataset(p, "pressure", std::vector<double>(64, 0.0), {8, 8});
+       }},
+      {"infinite traction", "traction0",
+       [&](const fs::path& p) {
+         auto t = read_vector(p, "traction0");
+         t[5] = INFINITY;
+         replace_dataset(p, "traction0", t, {16, 16});
+       }},
+      {"last_target overlong", "last_target",
+       [&](const fs::path& p) {
+         replace_dataset(p, "last_target", {1e9, 0.0}, {2});
+       }},
+      {"old format", "format_version",
+       [&](const fs::path& p) { replace_dataset(p, "format_version", {1.0}, {1}); }},
+  };
+  for (const auto& c : cases) {
+    const fs::path d = dir_ / "bad";
+    fs::remove_all(d);
+    fs::copy(good, d);
+    c.damage(d / "checkpoint.h5");
+    const Result r = run("run --resume " + d.string() + " --quiet", dir_);
+    EXPECT_EQ(r.code, 2) << c.name << ": " << r.err;
+    EXPECT_NE(r.err.find("checkpoint.h5"), std::string::npos) << c.name << ": " << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.name << ": " << r.err;
+    EXPECT_EQ(slurp(d / "timeseries.csv"), csv) << c.name << ": outputs were touched";
+  }
+}
+
+// Outputs that do not belong to the checkpoint are refused, not patched.
+TEST_F(Faults, DamagedOrForeignOutputsAreRefused) {
+  const fs::path good = dir_ / "good", other = dir_ / "other";
+  ASSERT_EQ(run("run " + kScenario + kQuick + " --stop-after 30 --out " + good.string(), dir_).code,
+            0);
+  ASSERT_EQ(
+      run("run " + kScenario + kQuick + " --stop-after 30 --out " + other.string(), dir_).code, 0);
+  const std::string csv = slurp(good / "timeseries.csv");
+  struct Case {
+    std::string name, expect;
+    std::function<void(const fs::path&)> damage;
+  };
+  const std::vector<Case> cases{
+      {"deleted csv", "timeseries.csv",
+       [](const fs::path& d) { fs::remove(d / "timeseries.csv"); }},
+      {"emptied csv", "timeseries.csv",
+       [](const fs::path& d) { std::ofstream(d / "timeseries.csv", std::ios::trunc); }},
+      {"truncated csv", "timeseries.csv",
+       [&](const fs::path& d) {
+         std::ofstream(d / "timeseries.csv", std::ios::trunc) << csv.substr(0, csv.size() / 2);
+       }},
+      {"garbage row", "timeseries.csv",
+       [&](const fs::path& d) {
+         std::string b = csv;
+         const std::size_t at = b.find('\n', b.size() / 2) + 1;
+         for (std::size_t k = 0; k < 5; ++k) b[at + k] = "xx,yy"[k];
+         std::ofstream(d / "timeseries.csv", std::ios::trunc) << b;
+       }},
+      {"changed value", "differs from result.h5",
+       [&](const fs::path& d) {
+         std::string b = csv;
+         const auto at = b.find("\n10,") + 4;
+         b[at] = b[at] == '9' ? '8' : '9';
+         std::ofstream(d / "timeseries.csv", std::ios::trunc) << b;
+       }},
+      {"result.h5 of another run", "run id",
+       [&](const fs::path& d) {
+         fs::copy_file(other / "result.h5", d / "result.h5", fs::copy_options::overwrite_existing);
+       }},
+      {"result.h5 deleted", "result.h5", [](const fs::path& d) { fs::remove(d / "result.h5"); }},
+  };
+  for (const auto& c : cases) {
+    const fs::path d = dir_ / "bad";
+    fs::remove_all(d);
+    fs::copy(good, d);
+    c.damage(d);
+    const Result r = run("run --resume " + d.string() + " --quiet", dir_);
+    EXPECT_EQ(r.code, 2) << c.name << ": " << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.name << ": " << r.err;
+  }
+}
+
+// A second run into a directory holding a run's results is refused unless --overwrite; with
+// it, the old checkpoint is gone (a later --resume cannot mix the two runs).
+TEST_F(Faults, SecondRunIntoSameOutNeedsOverwrite) {
+  const fs::path d = dir_ / "r";
+  const std::string cmd = "run " + kScenario + " --quiet --set grid.n=16 --out " + d.string();
+  ASSERT_EQ(run(cmd + " --stop-after 5", dir_).code, 0);
+  const std::string before = slurp(d / "timeseries.csv");
+  const Result again = run(cmd, dir_);
+  EXPECT_EQ(again.code, 2);
+  EXPECT_NE(again.err.find("--overwrite"), std::string::npos) << again.err;
+  EXPECT_EQ(slurp(d / "timeseries.csv"), before);
+  // A run refused by its scenario (bad key value) with --overwrite leaves the old checkpoint
+  // of the old outputs; a run that starts replaces it.
+  ASSERT_EQ(run(cmd + " --overwrite --stop-after 2", dir_).code, 0);
+  EXPECT_EQ(rows_of(d / "timeseries.csv").size(), 3u);  // header + steps 0, 1
+  EXPECT_EQ(run("run --resume " + d.string() + " --quiet", dir_).code, 0);
+  // An empty directory is fine.
+  fs::create_directories(dir_ / "empty");
+  EXPECT_EQ(run("run " + kScenario + " --quiet --set grid.n=16 --stop-after 1 --out " +
+                    (dir_ / "empty").string(),
+                dir_)
+                .code,
+            0);
+}
+
+// Small CLI refusals of issue 14 item 13.
+TEST_F(Faults, OutOptionsAreChecked) {
+  EXPECT_EQ(run("run " + kScenario + " --quiet --out \"\"", dir_).code, 2);
+  const fs::path d = dir_ / "r";
+  ASSERT_EQ(
+      run("run " + kScenario + " --quiet --set grid.n=16 --stop-after 3 --out " + d.string(), dir_)
+          .code,
+      0);
+  const Result r = run("run --resume " + d.string() + " --out " + (dir_ / "x").string(), dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--out"), std::string::npos) << r.err;
+}
+
+// Ensembles: a repeated Hurst exponent and an absurd bin count are refused before any member
+// runs.
+TEST_F(Faults, EnsembleRefusesDuplicateHurstAndHugeBins) {
+  const std::string base =
+      "ensemble " + kScenario + " --seeds 1 --quiet --out " + (dir_ / "e").string();
+  Result r = run(base + " --hurst 0.5,0.5", dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("listed twice"), std::string::npos) << r.err;
+  r = run(base + " --hurst 0.5 --bins 100000000", dir_);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--bins"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "e" / "aggregate.csv"));
+}
+
+// Step counts that pass the key ranges but cannot fit in memory are refused by `check` and
+// `run` with the key named (issue 14 item 9: load.steps = 2^30 ended in bad_alloc).
+TEST_F(Faults, HugeStepCountsAreRefused) {
+  for (const std::string cmd : {"check ", "run "}) {
+    const Result r =
+        run(cmd + kScenario + " --quiet --set load.path=ramp --set load.steps=1073741824 --out " +
+                (dir_ / "s").string(),
+            dir_);
+    EXPECT_EQ(r.code, 2) << cmd << r.err;
+    EXPECT_NE(r.err.find("load.steps"), std::string::npos) << cmd << r.err;
+  }
+}
+
+// Determinism: the same scenario gives a byte-identical timeseries.csv run after run and with
+// 1 or 2 FFT threads (n = 32, the first 40 steps; docs/reliability.md).
+TEST_F(Faults, TimeseriesIsByteIdenticalAcrossRunsAndThreads) {
+  const std::string cmd = "run " + kScenario + " --quiet --stop-after 40 --set grid.n=32 --out ";
+  ASSERT_EQ(run(cmd + (dir_ / "a").string() + " --set solver.threads=1", dir_).code, 0);
+  ASSERT_EQ(run(cmd + (dir_ / "b").string() + " --set solver.threads=1", dir_).code, 0);
+  ASSERT_EQ(run(cmd + (dir_ / "c").string() + " --set solver.threads=2", dir_).code, 0);
+  const std::string a = slurp(dir_ / "a" / "timeseries.csv");
+  EXPECT_FALSE(a.empty());
+  EXPECT_EQ(a, slurp(dir_ / "b" / "timeseries.csv"));
+  EXPECT_EQ(a, slurp(dir_ / "c" / "timeseries.csv"));
+}

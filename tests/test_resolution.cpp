@@ -1,0 +1,215 @@
+// Resolution and domain reports (issues 17 §3, 18): the slip-ring measure against an annulus,
+// the edge load share, Hertz predictions of `fretbem check`, warnings and refusals of a run.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "fretbem/history/model.hpp"
+#include "fretbem/history/resolution.hpp"
+#include "fretbem/history/stepper.hpp"
+
+using namespace fretbem;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Annulus c < r < a of slip around a stick disc, centred on an n x n grid (radii in cells).
+StateField annulus(int n, double a, double c) {
+  StateField s = StateField::Zero(n, n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double r = std::hypot(i + 0.5 - n / 2.0, j + 0.5 - n / 2.0);
+      if (r < a) s(i, j) = std::uint8_t(r < c ? NodeState::stick : NodeState::slip);
+    }
+  return s;
+}
+
+struct Result {
+  int status = -1;
+  std::string out, err;
+};
+
+fs::path work_dir() {
+  const fs::path d = fs::temp_directory_path() / ("fretbem_resolution_" + std::to_string(getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+Result cli(const std::string& args) {
+  const fs::path tmp = work_dir();
+  const std::string cmd = std::string(FRETBEM_BINARY) + " " + args + " > " +
+                          (tmp / "out").string() + " 2> " + (tmp / "err").string();
+  Result r;
+  const int s = std::system(cmd.c_str());
+  r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+  auto slurp = [](const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  r.out = slurp(tmp / "out"), r.err = slurp(tmp / "err");
+  return r;
+}
+
+// Hertz sphere, E = 1, nu = 0.3, R = 1, mu = 0.5, at the force giving a = 1/4 on a unit domain.
+std::string sphere_ini(int n, const std::string& load, double length = 1.0) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "[material]\nE = 1\nnu = 0.3\nmu = 0.5\n[grid]\nn = " << n << "\nlength = " << length
+    << "\n[surface]\ntype = sphere\nradius = 1\n[load]\nnormal_force = "
+    << 4.0 / 3.0 / (1 - 0.09) * std::pow(0.25, 3) << "\n"
+    << load << "\n[solver]\nstiffness = false\n";
+  return s.str();
+}
+
+fs::path write_ini(const std::string& name, const std::string& text) {
+  const fs::path f = work_dir() / (name + ".ini");
+  std::ofstream(f) << text;
+  return f;
+}
+
+std::vector<std::string> read_lines(const fs::path& f) {
+  std::ifstream in(f);
+  std::vector<std::string> out;
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+}  // namespace
+
+// (a^2 - c^2) / (2a) for annuli from thin to thick, a = 40 cells: the digitised ring's measure
+// within 0.2 cells (the staircase estimate of the edge length is good to ~1 % on a disc).
+TEST(SlipRing, MeasuresTheWidthOfAnAnnulus) {
+  for (double c : {38.0, 36.0, 32.0, 20.0}) {
+    const double a = 40.0, want = (a * a - c * c) / (2 * a);
+    const double got = slip_ring_cells(annulus(128, a, c));
+    std::printf("a = 40, c = %.0f: ring %.3f cells, closed form %.3f\n", c, got, want);
+    EXPECT_NEAR(got, want, 0.2);
+  }
+  EXPECT_EQ(slip_ring_cells(annulus(64, 20, 20)), 0.0);  // nothing slips
+  EXPECT_EQ(contact_nodes(annulus(64, 20, 10)), (annulus(64, 20, 10) != 0).count());
+}
+
+TEST(EdgeLoad, ShareOfTheOutermostCells) {
+  EXPECT_NEAR(edge_load_share(Field::Ones(10, 10)), 36.0 / 100.0, 1e-15);
+  Field p = Field::Zero(10, 10);
+  p(5, 5) = 1.0;
+  EXPECT_EQ(edge_load_share(p), 0.0);
+  p(0, 3) = 1.0;
+  EXPECT_NEAR(edge_load_share(p), 0.5, 1e-15);
+}
+
+// The run's ring at the turning points against Mindlin's c/a = (1 - q)^(1/3) for a = 32 cells:
+// within one cell (the digitised edge of the contact and of the stick disc each move by up to
+// half a cell), and the same prediction `fretbem check` prints.
+TEST(SlipRing, RunMatchesTheMindlinRingAndCheckPredictsIt) {
+  const std::string load =
+      "path = sine\ncontrol = force\namplitude = 0.3\ncycles = 1\n"
+      "steps_per_cycle = 16";
+  const Scenario sc = parse_scenario(sphere_ini(128, load), "ring", work_dir());
+  auto model = build_model(sc);
+  Stepper stepper(*model);
+  struct : Observer {
+    double ring = -1;
+    StepRecord prev;
+    void on_step(const StepRecord& r, const InterfaceState&, const Model&) override {
+      if (load_peak(r, prev) && (ring < 0 || r.slip_ring_cells < ring)) ring = r.slip_ring_cells;
+      prev = r;
+    }
+  } narrowest;
+  stepper.run({&narrowest});
+  const double want = 32 * (1 - std::cbrt(0.7));
+  std::printf("ring at the turning points %.3f cells, Mindlin %.3f\n", narrowest.ring, want);
+  EXPECT_NEAR(narrowest.ring, want, 1.0);
+  const auto p = predict_sphere(sc);
+  ASSERT_TRUE(p.has_value());
+  EXPECT_NEAR(p->a_over_h, 32.0, 1e-9);
+  EXPECT_NEAR(p->ring_cells, want, 1e-9);
+  EXPECT_EQ(p->edge_share, 0.0);
+}
+
+// q = 0.05 at n = 64 (a = 16 cells): the ring a (1 - 0.95^(1/3)) = 0.27 cells. check warns and
+// suggests a grid that gives two cells; the run warns on stderr and still exits 0.
+TEST(SlipRing, UnderResolvedRingWarnsInCheckAndRun) {
+  const std::string load =
+      "path = sine\ncontrol = force\namplitude = 0.05\ncycles = 1\n"
+      "steps_per_cycle = 8";
+  const fs::path ini = write_ini("thin", sphere_ini(64, load));
+  const Result c = cli("check " + ini.string());
+  EXPECT_EQ(c.status, 0);
+  EXPECT_NE(c.out.find("warning: the slip ring spans under 2 cells"), std::string::npos) << c.out;
+  const int suggested = int(std::ceil(2.0 / (0.25 * (1 - std::cbrt(0.95)))));
+  EXPECT_NE(c.out.find("grid.n >= " + std::to_string(suggested)), std::string::npos) << c.out;
+  const fs::path out = work_dir() / "thin_run";
+  fs::remove_all(out);
+  const Result r = cli("run " + ini.string() + " --out " + out.string());
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("WARNING"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("resolution: slip ring"), std::string::npos) << r.out;
+  const auto rows = read_lines(out / "cycles.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].rfind("cycle,steps,dissipated_energy,loop_area,Fx_amplitude,Ux_amplitude,"
+                          "kx_at_max,kx_at_min,slip_area_at_peak,",
+                          0),
+            0u);  // the old columns first, unchanged
+  EXPECT_NE(rows[0].find(",slip_ring_cells,contact_nodes,a_over_h"), std::string::npos);
+  fs::remove_all(out);
+}
+
+// A sphere whose Hertz contact (a = 1/4) does not fit a domain of side 0.4: check predicts it,
+// a run refuses it (exit 2, one line naming the key), grid.allow_edge_contact = true runs with
+// a warning giving the share; the same contact on a domain of side 1 is silent.
+TEST(EdgeLoad, ContactLargerThanTheGridIsRefusedUnlessAllowed) {
+  const fs::path ini = write_ini("edge", sphere_ini(32, "", 0.4));
+  const Result c = cli("check " + ini.string());
+  EXPECT_EQ(c.status, 0);
+  EXPECT_NE(c.out.find("reaches the outermost cells"), std::string::npos) << c.out;
+  const fs::path out = work_dir() / "edge_run";
+  fs::remove_all(out);
+  const Result r = cli("run " + ini.string() + " --quiet --out " + out.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("grid.allow_edge_contact"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
+  fs::remove_all(out);
+  const Result ok = cli("run " + ini.string() +
+                        " --quiet --set grid.allow_edge_contact=true --out " + out.string());
+  EXPECT_EQ(ok.status, 0) << ok.err;
+  EXPECT_NE(ok.err.find("of the normal load is on the outermost cells"), std::string::npos);
+  fs::remove_all(out);
+  const fs::path fits = write_ini("fits", sphere_ini(32, ""));
+  const Result quiet = cli("run " + fits.string() + " --quiet --out " + out.string());
+  EXPECT_EQ(quiet.status, 0);
+  EXPECT_EQ(quiet.err, "");
+  fs::remove_all(out);
+}
+
+// A displacement ramp to half the full-sliding shift u* = mu delta E*/G* (delta = a^2/R):
+// check and run say U*/amplitude = 2, and cycles.csv has its header and no rows.
+TEST(Ramp, DisplacementRampBelowSlidingIsReportedAndWritesNoCycleRows) {
+  Material m;
+  m.body1 = {1.0, 0.3};
+  const double ustar = 0.5 * 0.0625 * m.E_star() / m.G_star();
+  std::ostringstream load;
+  load.precision(17);
+  load << "path = ramp\ncontrol = displacement\ndisplacement_amplitude = " << ustar / 2
+       << "\nsteps = 4";
+  const fs::path ini = write_ini("ramp", sphere_ini(64, load.str()));
+  const Result c = cli("check " + ini.string());
+  EXPECT_NE(c.out.find("ends below full sliding: U*/amplitude = 2"), std::string::npos) << c.out;
+  const fs::path out = work_dir() / "ramp_run";
+  fs::remove_all(out);
+  const Result r = cli("run " + ini.string() + " --quiet --out " + out.string());
+  EXPECT_EQ(r.status, 0) << r.err;
+  // The run's U* uses its own delta (n = 64: within 1 % of Hertz's): "U*/amplitude = 1.9x/2".
+  const auto at = r.err.find("U*/amplitude = ");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_NEAR(std::stod(r.err.substr(at + 15)), 2.0, 0.04);
+  EXPECT_EQ(read_lines(out / "cycles.csv").size(), 1u);
+  fs::remove_all(work_dir());
+}
