@@ -21,7 +21,7 @@ std::string shape_text(const Field& z) {
 // (x3p) disagrees with grid.length / n is an error, never a silent transpose or rescale.
 Field file_surface(const SurfaceSpec& s, const Grid& g) {
   HeightMap m = read_height_map(s.file, s.dataset, s.layout);
-  const std::string where = "height map '" + s.file.string() + "'";
+  const std::string where = s.file.string() + ": height map";
   const Field& z = m.z;
   if (z.rows() != g.nx || z.cols() != g.ny) {
     const bool x3p = s.file.extension() == ".x3p" || s.file.extension() == ".X3P";
@@ -39,7 +39,7 @@ Field file_surface(const SurfaceSpec& s, const Grid& g) {
   // x3p stores the increments as decimal text: agree to 1e-6 relative (6+ digits written).
   for (const auto& [name, d] : {std::pair{"x", m.dx}, std::pair{"y", m.dy}})
     if (d && std::abs(*d - g.h) > 1e-6 * g.h)
-      throw InputError(where + ": spacing along " + name + " is " + format_number(*d) +
+      throw InputError(where + " spacing along " + name + " is " + format_number(*d) +
                        " m in the file but grid.length / n = " + format_number(g.h) +
                        " m; set grid.length = " + format_number(*d * g.nx) +
                        " (a height map is never rescaled)");
