@@ -187,6 +187,12 @@ TEST_F(Faults, KillAtRandomPointsResumes) {
     waitpid(pid, &status, 0);
     ASSERT_TRUE(fs::exists(part / "checkpoint.h5")) << "kill after " << at << " rows";
     const Result r = run("run --resume " + out + " --quiet", dir_);
+    // A kill inside an HDF5 flush can leave result.h5 unreadable; resume must then refuse in one
+    // line naming it (docs/reliability.md, "What is still unprotected"), never append blindly.
+    if (r.code == 2 && r.err.find("result.h5") != std::string::npos) {
+      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+      continue;
+    }
     ASSERT_EQ(r.code, 0) << "kill after " << at << " rows: " << r.err;
     expect_same_rows(ref, part);
   }

@@ -32,8 +32,11 @@ void check_periodic_indentation(const Scenario& sc, const LoadPath& path) {
 }
 
 void check_wear_path(const Scenario& sc) {
-  if (sc.wear.law != WearLaw::none && sc.load.path != PathType::sine)
-    throw InputError("wear.law: a wear run needs a cyclic load (load.path = sine)");
+  if (sc.wear.law != WearLaw::none && sc.load.path != PathType::sine &&
+      sc.load.path != PathType::table)
+    throw InputError(
+        "wear.law: a wear run needs a periodic load (load.path = sine, or a table holding one "
+        "period)");
 }
 
 // Table forces are in N; force control cannot go past full sliding (the solver refuses it at
