@@ -124,6 +124,23 @@ TEST(Cli, SurfaceWritesAHeightMapAndStatistics) {
   fs::remove(out);
 }
 
+// One octave of fit range (n = 64) scattered fits of H = 0.8 from 0.66 to 1.55 over five seeds;
+// two octaves (n = 128, also as the short side of a rectangle) kept them within 0.16.
+TEST(Cli, SurfaceWarnsWhenTheHurstFitRestsOnTooFewWavelengths) {
+  const fs::path out =
+      fs::temp_directory_path() / ("fretbem_cli_hurst_" + std::to_string(getpid()) + ".npy");
+  for (const auto& [grid, warns] :
+       {std::pair{"--set grid.n=64", true}, std::pair{"--set grid.n=32", true},
+        std::pair{"--set grid.nx=256 --set grid.ny=64", true},
+        std::pair{"--set grid.n=128", false}}) {
+    const Result r = fretbem(std::string("surface ") + grid + " --out " + out.string());
+    ASSERT_EQ(r.status, 0) << grid << ": " << r.err;
+    EXPECT_EQ(r.err.find("warning: the Hurst fit rests on") != std::string::npos, warns)
+        << grid << ": " << r.err;
+  }
+  fs::remove(out);
+}
+
 // --quiet silences the progress report, not the results (issue 19); steps are counted as
 // `check` counts them, row 0 (the normal loading) included.
 TEST(Cli, QuietKeepsTheSummaryAndStopsCountRows) {

@@ -17,6 +17,7 @@ FRETBEM_REQUIRED_PACKAGES=(
   libeigen3-dev libfftw3-dev libsundials-dev libhdf5-dev libboost-program-options-dev
   libgtest-dev googletest python3
   pybind11-dev python3-dev python3-numpy
+  libxdmf-dev libzip-dev libpugixml-dev
 )
 # MPI is optional for the build (FRETBEM_MPI=AUTO finds it); tools/test.sh installs it so that
 # the suite also runs the MPI sweep tests (tests/test_sweep_mpi.cpp, ~10-20 s; docs/cluster.md).

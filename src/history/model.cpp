@@ -5,10 +5,48 @@
 #include <sstream>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/format.hpp"
 #include "fretbem/core/resources.hpp"
 #include "fretbem/history/preflight.hpp"
 
 namespace fretbem {
+
+namespace {
+
+std::string shape_text(const Field& z) {
+  return std::to_string(z.rows()) + " x " + std::to_string(z.cols());
+}
+
+// A height map must fit the grid as it stands: a transposed file or a file whose own spacing
+// (x3p) disagrees with grid.length / n is an error, never a silent transpose or rescale.
+Field file_surface(const SurfaceSpec& s, const Grid& g) {
+  HeightMap m = read_height_map(s.file, s.dataset, s.layout);
+  const std::string where = s.file.string() + ": height map";
+  const Field& z = m.z;
+  if (z.rows() != g.nx || z.cols() != g.ny) {
+    const bool x3p = s.file.extension() == ".x3p" || s.file.extension() == ".X3P";
+    std::string hint;
+    if (!x3p && z.rows() == g.ny && z.cols() == g.nx)
+      hint = s.layout == HeightLayout::yx
+                 ? "; the file looks transposed: set surface.layout = xy if its first index "
+                   "runs along x"
+                 : "; the file looks transposed: set surface.layout = yx if its rows run "
+                   "along y";
+    throw InputError(where + " is " + shape_text(z) + " (x by y, surface.layout = " +
+                     (s.layout == HeightLayout::yx ? "yx" : "xy") + ") but the grid is " +
+                     std::to_string(g.nx) + " x " + std::to_string(g.ny) + hint);
+  }
+  // x3p stores the increments as decimal text: agree to 1e-6 relative (6+ digits written).
+  for (const auto& [name, d] : {std::pair{"x", m.dx}, std::pair{"y", m.dy}})
+    if (d && std::abs(*d - g.h) > 1e-6 * g.h)
+      throw InputError(where + " spacing along " + name + " is " + format_number(*d) +
+                       " m in the file but grid.length / n = " + format_number(g.h) +
+                       " m; set grid.length = " + format_number(*d * g.nx) +
+                       " (a height map is never rescaled)");
+  return std::move(m.z);
+}
+
+}  // namespace
 
 Field make_surface(const Scenario& sc) {
   const Grid& g = sc.grid;
@@ -19,14 +57,8 @@ Field make_surface(const Scenario& sc) {
       return flat_surface(g);
     case SurfaceType::rough:
       return rough_surface(g, sc.surface.rough);
-    case SurfaceType::file: {
-      Field z = load_height_map(sc.surface.file, sc.surface.dataset);
-      if (z.rows() != g.nx || z.cols() != g.ny)
-        throw InputError(sc.surface.file.string() + ": height map is " + std::to_string(z.rows()) +
-                         " x " + std::to_string(z.cols()) + " (x by y) but the grid is " +
-                         std::to_string(g.nx) + " x " + std::to_string(g.ny));
-      return z;
-    }
+    case SurfaceType::file:
+      return file_surface(sc.surface, g);
   }
   throw InputError("surface.type: unknown");
 }

@@ -12,6 +12,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/hdf5.hpp"
+#include "fretbem/io/result_metadata.hpp"
 
 namespace fretbem {
 
@@ -103,6 +104,8 @@ std::vector<char> checkpoint_image(const Model& model, const Stepper& stepper,
   const std::vector<double> version{double(kCheckpointFormat)};
   write_vector(f.get(), "format_version", version);
   write_text(f.get(), "run_id", model.run_id);
+  io::write_file_attributes(f.get(), model.scenario.grid, model.scenario.output.dir,
+                            "fretbem checkpoint", "checkpoint");
   write_text(f.get(), "scenario", model.scenario.resolved_text);
   write_state(f.get(), stepper.state());
   write_memory(f.get(), stepper.memory());

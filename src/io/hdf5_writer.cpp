@@ -9,6 +9,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/hdf5.hpp"
+#include "fretbem/io/result_metadata.hpp"
 
 namespace fretbem::io {
 
@@ -59,7 +60,8 @@ struct Hdf5Writer::Impl {
   void write_field(hid_t loc, const std::string& name, const Field& f) const;
   void write_attribute(hid_t loc, const char* name, hid_t file_type, hid_t mem_type,
                        const void* value) const;
-  void write_columns_attribute(hid_t dataset) const;
+  void write_columns_attribute(hid_t dataset, const char* name,
+                               const std::vector<std::string>& values) const;
   void open_timeseries();
 };
 
@@ -101,11 +103,21 @@ void Hdf5Writer::Impl::write_field(hid_t loc, const std::string& name, const Fie
     }
   }
   const PlistH lcpl = link_plist();
-  DatasetH d(check(H5Dcreate2(loc, name.c_str(), H5T_IEEE_F64LE, space.get(), lcpl.get(),
-                              dcpl.get(), H5P_DEFAULT),
+  // Flag fields (state: 0 open, 1 stick, 2 slip) are stored as uint8, the rest as float64.
+  const std::string leaf = name.substr(name.find_last_of('/') + 1);
+  const bool flag = field_info(leaf).flag;
+  DatasetH d(check(H5Dcreate2(loc, name.c_str(), flag ? H5T_STD_U8LE : H5T_IEEE_F64LE, space.get(),
+                              lcpl.get(), dcpl.get(), H5P_DEFAULT),
                    "create dataset " + name));
-  check(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, f.data()),
-        "write a field");
+  if (flag) {
+    const Eigen::Array<std::uint8_t, Eigen::Dynamic, Eigen::Dynamic> v = f.cast<std::uint8_t>();
+    check(H5Dwrite(d.get(), H5T_NATIVE_UINT8, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()),
+          "write a field");
+  } else {
+    check(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, f.data()),
+          "write a field");
+  }
+  describe_field(file.get(), d.get(), leaf, path.string());
 }
 
 void Hdf5Writer::Impl::write_attribute(hid_t loc, const char* name, hid_t file_type, hid_t mem_type,
@@ -116,15 +128,16 @@ void Hdf5Writer::Impl::write_attribute(hid_t loc, const char* name, hid_t file_t
   check(H5Awrite(a.get(), mem_type, value), "write an attribute");
 }
 
-void Hdf5Writer::Impl::write_columns_attribute(hid_t dataset) const {
+void Hdf5Writer::Impl::write_columns_attribute(hid_t dataset, const char* name,
+                                               const std::vector<std::string>& values) const {
   std::vector<const char*> names;
-  for (const auto& c : columns) names.push_back(c.c_str());
+  for (const auto& c : values) names.push_back(c.c_str());
   const hsize_t n = names.size();
   SpaceH space(check(H5Screate_simple(1, &n, nullptr), "create a dataspace"));
   const TypeH type = utf8_string_type();
-  AttrH a(check(H5Acreate2(dataset, "columns", type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
-                "create attribute columns"));
-  check(H5Awrite(a.get(), type.get(), names.data()), "write the columns attribute");
+  AttrH a(check(H5Acreate2(dataset, name, type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                std::string("create attribute ") + name));
+  check(H5Awrite(a.get(), type.get(), names.data()), std::string("write attribute ") + name);
 }
 
 void Hdf5Writer::Impl::open_timeseries() {
@@ -183,6 +196,13 @@ const fs::path& Hdf5Writer::path() const {
   return impl_->path;
 }
 
+void Hdf5Writer::describe(const Grid& grid, const fs::path& output_dir) {
+  const std::string what = impl_->path.string();
+  write_file_attributes(impl_->file.get(), grid, output_dir, "fretbem result", what);
+  write_grid_scales(impl_->file.get(), grid, what);
+  impl_->flush();
+}
+
 void Hdf5Writer::write_text(const std::string& name, const std::string& text) {
   impl_->remove_if_exists(name);
   const TypeH type = utf8_string_type();
@@ -237,7 +257,10 @@ void Hdf5Writer::start_timeseries(const std::vector<std::string>& columns) {
       DatasetH(impl_->check(H5Dcreate2(impl_->file.get(), "/timeseries", H5T_IEEE_F64LE,
                                        space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
                             "create /timeseries"));
-  impl_->write_columns_attribute(impl_->timeseries.get());
+  std::vector<std::string> units;
+  for (const auto& c : columns) units.push_back(column_units(c));
+  impl_->write_columns_attribute(impl_->timeseries.get(), "columns", columns);
+  impl_->write_columns_attribute(impl_->timeseries.get(), "units", units);
   impl_->flush();
 }
 

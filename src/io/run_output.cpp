@@ -6,6 +6,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/history/resolution.hpp"
+#include "fretbem/io/xdmf_writer.hpp"
 
 namespace fretbem {
 
@@ -85,6 +86,7 @@ void TimeseriesCsv::on_step(const StepRecord& rec, const InterfaceState&, const 
 
 ResultFile::ResultFile(const std::filesystem::path& dir, const Model& m, long resume_rows)
     : h5_(resume_rows >= 0 ? io::Hdf5Writer::open_existing(dir) : io::Hdf5Writer(dir)) {
+  h5_.describe(m.scenario.grid, m.scenario.output.dir);
   if (resume_rows >= 0) {
     h5_.truncate_timeseries(std::size_t(resume_rows));
     return;
@@ -107,6 +109,13 @@ void ResultFile::on_step(const StepRecord& rec, const InterfaceState& s, const M
 
 void ResultFile::on_finish(const InterfaceState&, const Model& m) {
   h5_.write_field("/surface/final", m.surface);
+  write_xdmf();
+}
+
+void ResultFile::write_xdmf() const {
+  const auto dir = h5_.path().parent_path();
+  io::write_xdmf(h5_.path(), dir / "result.xmf", "/fields");
+  io::write_xdmf(h5_.path(), dir / "wear.xmf", "/wear");
 }
 
 const std::vector<std::string>& CycleSummary::columns() {

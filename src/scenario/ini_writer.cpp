@@ -80,6 +80,7 @@ void write_surface(IniWriter& w, const SurfaceSpec& s) {
     w.raw("# dataset = (unset)");
   else
     w.put("dataset", s.dataset);
+  w.put("layout", std::string(s.layout == HeightLayout::xy ? "xy" : "yx"));
 }
 
 void write_load(IniWriter& w, const LoadSpec& l) {

@@ -35,6 +35,7 @@ const std::vector<std::string> kKeys = {
     "surface.cutoff_wavelength",
     "surface.file",
     "surface.dataset",
+    "surface.layout",
     "load.normal_force",
     "load.indentation",
     "load.path",

@@ -47,6 +47,11 @@ Scenario parse_scenario(const std::string& text, const std::string& name,
   return s;
 }
 
+void set_output_dir(Scenario& s, const fs::path& dir) {
+  s.output.dir = dir;
+  s.resolved_text = resolved_text(s);
+}
+
 Scenario load_scenario(const std::filesystem::path& file,
                        const std::vector<std::string>& overrides) {
   std::error_code ec;

@@ -123,6 +123,8 @@ void read_surface(const Reader& r, const fs::path& base, SurfaceSpec& s) {
   if (r.has("surface.radius")) s.radius = r.magnitude("surface.radius");
   read_rough(r, s.rough);
   if (r.has("surface.dataset")) s.dataset = r.raw("surface.dataset");
+  if (r.has("surface.layout"))
+    s.layout = static_cast<HeightLayout>(r.choice("surface.layout", {"yx", "xy"}));
   const bool is_file = s.type == SurfaceType::file;
   if (r.has("surface.file")) s.file = r.path("surface.file", base, is_file);
   if (s.type == SurfaceType::sphere) r.require("surface.radius", " for surface.type = sphere");

@@ -16,15 +16,14 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/hdf5.hpp"
+#include "npy.hpp"
+#include "zip_formats.hpp"
 
 namespace fretbem {
 
-namespace {
+namespace surface_detail {
 
-// ---------------------------------------------------------------------------------------
-// Height-map files: shared helpers
-
-[[noreturn]] void file_error(const std::filesystem::path& file, const std::string& what) {
+void file_error(const std::filesystem::path& file, const std::string& what) {
   throw InputError("height map '" + file.string() + "': " + what);
 }
 
@@ -38,6 +37,13 @@ void require_sane_shape(const std::filesystem::path& file, unsigned long long ny
     file_error(file,
                "array shape (" + std::to_string(ny) + ", " + std::to_string(nx) + ") is too large");
 }
+
+}  // namespace surface_detail
+
+namespace {
+
+using surface_detail::file_error;
+using surface_detail::require_sane_shape;
 
 void require_finite(const std::filesystem::path& file, const Field& z) {
   for (int j = 0; j < z.cols(); ++j)
@@ -212,8 +218,11 @@ double npy_value(const char* p, bool f4) {
   return std::bit_cast<double>(load_le<std::uint64_t>(p));
 }
 
-Field load_npy(const std::filesystem::path& file) {
-  const std::string data = read_all(file);
+}  // namespace
+
+Field surface_detail::parse_npy(const std::filesystem::path& path, const std::string& data,
+                                const std::string& member) {
+  const std::filesystem::path file = member.empty() ? path.string() : path.string() + ":" + member;
   const NpyHeader h = parse_npy_header(file, data);
   if (h.descr != "<f8" && h.descr != "<f4")
     file_error(file, "unsupported dtype '" + h.descr + "' (expected '<f8' or '<f4')");
@@ -235,6 +244,12 @@ Field load_npy(const std::filesystem::path& file) {
       z(i, j) = npy_value(p + k * item, f4);
     }
   return z;
+}
+
+namespace {
+
+Field load_npy(const std::filesystem::path& file) {
+  return surface_detail::parse_npy(file, read_all(file));
 }
 
 void save_npy(const std::filesystem::path& file, const Field& z) {
@@ -318,15 +333,27 @@ void save_text(const std::filesystem::path& file, const Field& z) {
 }  // namespace
 
 Field load_height_map(const std::filesystem::path& file, const std::string& dataset) {
+  return read_height_map(file, dataset, HeightLayout::yx).z;
+}
+
+HeightMap read_height_map(const std::filesystem::path& file, const std::string& dataset,
+                          HeightLayout layout) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) file_error(file, "no such file");
   try {
     const std::string ext = lower_extension(file);
-    Field z = ext == ".h5" || ext == ".hdf5" ? load_h5(file, dataset)
-              : ext == ".npy"                ? load_npy(file)
-                                             : load_text(file);
-    require_finite(file, z);
-    return z;
+    HeightMap m;
+    if (ext == ".x3p") {
+      m = surface_detail::load_x3p(file);
+    } else {
+      m.z = ext == ".h5" || ext == ".hdf5" ? load_h5(file, dataset)
+            : ext == ".npy"                ? load_npy(file)
+            : ext == ".npz"                ? surface_detail::load_npz(file, dataset)
+                                           : load_text(file);
+      if (layout == HeightLayout::xy) m.z = Field(m.z.transpose());
+    }
+    require_finite(file, m.z);
+    return m;
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {  // bad_alloc for absurd shapes, filesystem errors

@@ -97,6 +97,8 @@ SurfaceStats surface_statistics(const Grid& grid, const Field& z) {
   s.min = z.minCoeff();
   s.max = z.maxCoeff();
   s.hurst_fit = fit_hurst(grid, radial_psd_impl(grid, z));
+  // fit_hurst's range: q from 4 dq to q_Nyquist / 4 = (n_min / 8) dq.
+  s.hurst_fit_octaves = std::log2(std::min(grid.nx, grid.ny) / 32.0);
   return s;
 }
 

@@ -2,11 +2,12 @@
 // series (DESIGN §4 "Fields"). HDF5 C API behind the interface; every write is followed by a
 // flush, so an interrupted run leaves a readable file.
 //
-// Layout: fields are 2-D double datasets of dims {ny, nx} (h5py's a[j, i] = f(i, j)), chunked
-// and deflated (level 4); `/fields/step_%06d/NAME` with attributes `step` (int64) and `time`
-// (double) on the group; `/timeseries` is an extendible [rows, ncols] double dataset with a
-// `columns` attribute (array of variable-length UTF-8 strings); text is a scalar
-// variable-length UTF-8 string dataset.
+// Layout: fields are 2-D datasets of dims {ny, nx} (h5py's a[j, i] = f(i, j)), float64 except
+// `state` (uint8: 0 open, 1 stick, 2 slip; format version 1 stored it as float64), chunked
+// and deflated (level 4), each with `units` and `long_name`; `/fields/step_%06d/NAME` with
+// attributes `step` (int64) and `time` (double) on the group; `/timeseries` is an extendible [rows,
+// ncols] double dataset with a `columns` and `units` attributes (arrays of variable-length UTF-8
+// strings); text is a scalar variable-length UTF-8 string dataset.
 #pragma once
 
 #include <cstdint>
@@ -35,6 +36,12 @@ class Hdf5Writer {
   ~Hdf5Writer();
   Hdf5Writer(Hdf5Writer&&) noexcept;
   Hdf5Writer& operator=(Hdf5Writer&&) noexcept;
+
+  /// Writes the file's self-description (root attributes: program, format version, grid
+  /// spacing and origin, periodic flag, array layout, `output_dir`; see result_metadata.hpp)
+  /// and the `/x`, `/y` dimension scales. Fields written afterwards whose shape is the grid's
+  /// get the scales attached; every field gets `units` and `long_name`.
+  void describe(const Grid& grid, const std::filesystem::path& output_dir);
 
   /// Scalar string dataset at `name` (e.g. "/scenario"); intermediate groups are created and
   /// an existing object of that name is replaced.

@@ -25,7 +25,8 @@ class TimeseriesCsv final : public Observer {
 };
 
 /// DIR/result.h5: resolved scenario, initial and final surface, time series, and the fields
-/// of output.fields every output.fields_every steps, at turning points and at the last step.
+/// of output.fields every output.fields_every steps, at turning points and at the last step;
+/// self-describing (Hdf5Writer::describe) with an XDMF sidecar (write_xdmf).
 class ResultFile final : public Observer {
  public:
   /// resume_rows >= 0: reopen the existing file, keep that many time-series rows, append.
@@ -33,6 +34,9 @@ class ResultFile final : public Observer {
   void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) override;
   void on_finish(const InterfaceState& state, const Model& model) override;
   const std::filesystem::path& path() const { return h5_.path(); }
+  /// DIR/result.xmf (saved fields over time, for ParaView) and, when the file holds wear
+  /// snapshots, DIR/wear.xmf; written at the end of a run and when it stops early.
+  void write_xdmf() const;
   /// The file itself, for writers of other groups (wear snapshots).
   io::Hdf5Writer& writer() { return h5_; }
 

@@ -37,6 +37,8 @@ struct SurfaceSpec {
   RoughSpec rough;             ///< rough surfaces
   std::filesystem::path file;  ///< file surfaces (resolved against the scenario's folder)
   std::string dataset;         ///< HDF5 dataset name for file surfaces ("" = first 2-D dataset)
+  /// Axis order of .npy/.npz/.h5/text height maps (x3p files carry their own).
+  HeightLayout layout = HeightLayout::yx;
 };
 
 struct LoadSpec {
@@ -143,5 +145,9 @@ Scenario load_scenario(const std::filesystem::path& file,
 Scenario parse_scenario(const std::string& text, const std::string& name,
                         const std::filesystem::path& base_dir,
                         const std::vector<std::string>& overrides = {});
+
+/// Sets output.dir (e.g. from `run --out DIR`) and rewrites resolved_text to match, so the
+/// scenario stored in result files names the folder the run actually wrote.
+void set_output_dir(Scenario& scenario, const std::filesystem::path& dir);
 
 }  // namespace fretbem

@@ -1,7 +1,9 @@
-// Height-map files (m, peaks positive): HDF5, NumPy and text, read and written.
+// Height-map files (m, peaks positive): HDF5, NumPy (.npy, .npz), text and ISO 25178-72 x3p,
+// read; HDF5, .npy and text written.
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "fretbem/elastic/grid.hpp"
@@ -14,6 +16,23 @@ namespace fretbem {
 /// Throws InputError naming the file on any problem (missing, unreadable, not 2-D, ragged
 /// rows, non-numeric token (with its line), NaN/Inf values).
 Field load_height_map(const std::filesystem::path& file, const std::string& dataset = "");
+
+/// Axis order of a stored 2-D array: `yx` (fretbem's, rows along y: array[j][i] = z(x_i, y_j))
+/// or `xy` (first index along x, as SurfaceTopography's .npy/.h5 readers take it).
+enum class HeightLayout { yx, xy };
+
+/// A height map read from a file, with the grid spacing (m) when the file carries one (x3p).
+struct HeightMap {
+  Field z;                   ///< z(i, j), i along x (m)
+  std::optional<double> dx;  ///< spacing along x (m), from the file
+  std::optional<double> dy;  ///< spacing along y (m), from the file
+};
+
+/// Like load_height_map, plus `.npz` (the entry named `dataset`, or the only one) and `.x3p`
+/// (ISO 25178-72: axis order and spacing from the file; `layout` does not apply). For the
+/// other formats `layout` says which array index runs along x.
+HeightMap read_height_map(const std::filesystem::path& file, const std::string& dataset,
+                          HeightLayout layout);
 /// Writes a height map in the same conventions (format from the extension: .h5/.hdf5 as
 /// dataset "height", .npy as '<f8' C order, otherwise text with round-trip exact decimals).
 /// Throws InputError naming the file if it cannot be written or z holds NaN/Inf.

@@ -1,0 +1,59 @@
+// What makes result.h5 and checkpoint.h5 self-describing (DESIGN §4 "Fields", issue 16): the
+// file attributes (program, format version, grid spacing and origin, periodic flag, array
+// layout, output folder), the units of every field and time-series column, and the `x`/`y`
+// coordinate datasets, registered as HDF5 dimension scales (H5DS) so that netCDF-4 readers
+// (xarray, ncdump) see coordinates.
+#pragma once
+
+#include <hdf5.h>
+
+#include <filesystem>
+#include <string>
+
+#include "fretbem/elastic/grid.hpp"
+
+namespace fretbem::io {
+
+/// Format of result.h5: 1 = the unlabelled layout before issue 16 (float64 `state`); 2 = this
+/// one (attributes, units, dimension scales, uint8 `state`). Readers that only read datasets
+/// work with both.
+constexpr int kResultFormatVersion = 2;
+
+/// How a saved 2-D field is described: its units (SI, UDUNITS spelling) and a long name.
+/// `flag` fields (state) are stored as uint8 with CF `flag_values` / `flag_meanings`.
+struct FieldInfo {
+  std::string units;
+  std::string long_name;
+  bool flag = false;
+};
+
+/// The description of a field by its dataset name (last path component, e.g. "pressure",
+/// "initial" under /surface, "final_worn_depth" under /wear); unknown names get units "".
+FieldInfo field_info(const std::string& dataset_name);
+/// Units of a /timeseries column (StepRecord::columns()); "1" for counts and flags.
+std::string column_units(const std::string& column);
+
+/// The legend of `state`: 0 open, 1 stick, 2 slip (NodeState).
+inline constexpr const char* kStateMeanings = "open stick slip";
+
+/// Writes (or replaces) the attributes on the file's root group: program, program_version,
+/// format, format_version, grid_shape {ny, nx}, grid_spacing {dy, dx} (m), grid_origin
+/// {y0, x0} (m, centre of cell (0, 0)), grid_length {ly, lx} (m), periodic (0/1),
+/// array_layout, cell_centred, output_dir. Pairs are in dataset axis order (y, x).
+/// Throws std::runtime_error naming `what` (the file) on an HDF5 failure.
+void write_file_attributes(hid_t file, const Grid& grid, const std::filesystem::path& output_dir,
+                           const std::string& format, const std::string& what);
+
+/// Creates the 1-D datasets /x and /y (cell centres, m) as dimension scales, unless present.
+void write_grid_scales(hid_t file, const Grid& grid, const std::string& what);
+
+/// Attaches /y and /x to dimensions 0 and 1 of a 2-D dataset whose shape is the grid's
+/// (datasets of any other shape are left alone) and writes its `units` and `long_name`.
+void describe_field(hid_t file, hid_t dataset, const std::string& dataset_name,
+                    const std::string& what);
+
+/// Writes (or replaces) a scalar string attribute.
+void write_string_attribute(hid_t loc, const char* name, const std::string& value,
+                            const std::string& what);
+
+}  // namespace fretbem::io

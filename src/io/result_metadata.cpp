@@ -1,0 +1,180 @@
+// Attributes, units and dimension scales of result.h5 / checkpoint.h5 (HDF5 C and high-level
+// H5DS APIs). The conventions follow CF where one exists (units, long_name, flag_values,
+// flag_meanings), so that xarray and ParaView users need no README.
+#include "fretbem/io/result_metadata.hpp"
+
+#include <hdf5_hl.h>
+
+#include <map>
+#include <stdexcept>
+#include <vector>
+
+#include "fretbem/core/hdf5.hpp"
+
+namespace fretbem::io {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& what, const std::string& action) {
+  throw std::runtime_error(what + ": cannot " + action + ": " + hdf5::last_error());
+}
+
+hid_t checked(hid_t id, const std::string& what, const std::string& action) {
+  if (id < 0) fail(what, action);
+  return id;
+}
+
+void remove_attribute(hid_t loc, const char* name, const std::string& what) {
+  if (checked(H5Aexists(loc, name), what, std::string("look up attribute ") + name) > 0)
+    checked(H5Adelete(loc, name), what, std::string("replace attribute ") + name);
+}
+
+void write_attribute(hid_t loc, const char* name, hid_t file_type, hid_t mem_type,
+                     const void* value, hsize_t count, const std::string& what) {
+  remove_attribute(loc, name, what);
+  hdf5::Space space(
+      checked(count == 0 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &count, nullptr), what,
+              "create a dataspace"));
+  hdf5::Attribute a(checked(H5Acreate2(loc, name, file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                            what, std::string("create attribute ") + name));
+  checked(H5Awrite(a.get(), mem_type, value), what, std::string("write attribute ") + name);
+}
+
+void write_doubles(hid_t loc, const char* name, std::vector<double> v, const std::string& what) {
+  write_attribute(loc, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data(), v.size(), what);
+}
+
+void write_int(hid_t loc, const char* name, long long v, const std::string& what) {
+  const std::int64_t x = v;
+  write_attribute(loc, name, H5T_STD_I64LE, H5T_NATIVE_INT64, &x, 0, what);
+}
+
+// Cell centres along one axis: x_i = (i + 1/2 - n/2) h (Grid::x).
+std::vector<double> centres(int n, double h) {
+  std::vector<double> c(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) c[i] = (i + 0.5 - 0.5 * n) * h;
+  return c;
+}
+
+void write_scale(hid_t file, const char* name, const std::vector<double>& c,
+                 const std::string& what) {
+  if (checked(H5Lexists(file, name, H5P_DEFAULT), what, std::string("look up ") + name) > 0) return;
+  const hsize_t n = c.size();
+  hdf5::Space space(checked(H5Screate_simple(1, &n, nullptr), what, "create a dataspace"));
+  hdf5::Dataset d(checked(
+      H5Dcreate2(file, name, H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+      what, std::string("create ") + name));
+  checked(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, c.data()), what,
+          std::string("write ") + name);
+  checked(H5DSset_scale(d.get(), name + 1), what,
+          std::string("make ") + name + " a dimension scale");
+  write_string_attribute(d.get(), "units", "m", what);
+  write_string_attribute(d.get(), "long_name",
+                         std::string("cell centre ") + (name + 1) + " coordinate", what);
+}
+
+hsize_t scale_length(hid_t scale) {
+  hdf5::Space s(H5Dget_space(scale));
+  return s.valid() ? hsize_t(H5Sget_simple_extent_npoints(s.get())) : 0;
+}
+
+}  // namespace
+
+FieldInfo field_info(const std::string& name) {
+  static const std::map<std::string, FieldInfo> known{
+      {"pressure", {"Pa", "contact pressure"}},
+      {"traction_x", {"Pa", "shear traction, x component"}},
+      {"traction_y", {"Pa", "shear traction, y component"}},
+      {"state", {"1", "contact state (0 open, 1 stick, 2 slip)", true}},
+      {"slip_x", {"m", "accumulated slip, x component"}},
+      {"slip_y", {"m", "accumulated slip, y component"}},
+      {"dissipation", {"J m-2", "dissipated energy per unit area, cumulative"}},
+      {"wear", {"m", "worn depth, cumulative"}},
+      {"initial", {"m", "indenter height, peaks positive"}},
+      {"final", {"m", "indenter height, peaks positive"}},
+      {"final_half_space", {"m", "half-space surface height (worn), peaks positive"}},
+      {"final_worn_depth", {"m", "worn depth, both bodies"}},
+      {"final_worn_depth_indenter", {"m", "worn depth of the indenter"}},
+      {"final_worn_depth_half_space", {"m", "worn depth of the half-space"}},
+      {"worn_depth", {"m", "worn depth, both bodies"}},
+  };
+  const auto it = known.find(name);
+  return it == known.end() ? FieldInfo{} : it->second;
+}
+
+std::string column_units(const std::string& c) {
+  static const std::map<std::string, std::string> known{{"Fz", "N"},
+                                                        {"delta", "m"},
+                                                        {"Fx", "N"},
+                                                        {"Fy", "N"},
+                                                        {"Ux", "m"},
+                                                        {"Uy", "m"},
+                                                        {"contact_area", "m2"},
+                                                        {"stick_area", "m2"},
+                                                        {"slip_area", "m2"},
+                                                        {"Fx_stick", "N"},
+                                                        {"kx", "N m-1"},
+                                                        {"dissipation", "J"},
+                                                        {"wear_volume", "m3"},
+                                                        {"N", "1"}};
+  const auto it = known.find(c);
+  return it == known.end() ? "1" : it->second;  // step, time (load-path time), counts, flags
+}
+
+void write_string_attribute(hid_t loc, const char* name, const std::string& value,
+                            const std::string& what) {
+  hdf5::Type t(checked(H5Tcopy(H5T_C_S1), what, "create a string type"));
+  // Fixed length, null-terminated: netCDF-4 and every HDF5 reader take these as plain text.
+  checked(H5Tset_size(t.get(), value.size() + 1), what, "size a string type");
+  checked(H5Tset_cset(t.get(), H5T_CSET_UTF8), what, "set a character set");
+  write_attribute(loc, name, t.get(), t.get(), value.c_str(), 0, what);
+}
+
+void write_file_attributes(hid_t file, const Grid& g, const std::filesystem::path& output_dir,
+                           const std::string& format, const std::string& what) {
+  hdf5::Group root(checked(H5Gopen2(file, "/", H5P_DEFAULT), what, "open the root group"));
+  const hid_t r = root.get();
+  write_string_attribute(r, "program", "fretbem", what);
+  write_string_attribute(r, "program_version", FRETBEM_VERSION, what);
+  write_string_attribute(r, "format", format, what);
+  write_int(r, "format_version", kResultFormatVersion, what);
+  write_doubles(r, "grid_shape", {double(g.ny), double(g.nx)}, what);
+  write_doubles(r, "grid_spacing", {g.h, g.h}, what);
+  write_doubles(r, "grid_origin", {g.y(0), g.x(0)}, what);
+  write_doubles(r, "grid_length", {g.length_y(), g.length_x()}, what);
+  write_int(r, "periodic", g.periodic ? 1 : 0, what);
+  write_string_attribute(r, "array_layout",
+                         "C order [y][x]: a[j, i] is the value at (x_i, y_j), x fastest", what);
+  write_string_attribute(r, "cell_centred",
+                         "fields are cell values; x_i = grid_origin[1] + i grid_spacing[1]", what);
+  write_string_attribute(r, "output_dir", output_dir.string(), what);
+  write_string_attribute(r, "Conventions", "CF-1.8", what);
+}
+
+void write_grid_scales(hid_t file, const Grid& g, const std::string& what) {
+  write_scale(file, "/x", centres(g.nx, g.h), what);
+  write_scale(file, "/y", centres(g.ny, g.h), what);
+}
+
+void describe_field(hid_t file, hid_t dataset, const std::string& name, const std::string& what) {
+  const FieldInfo info = field_info(name);
+  write_string_attribute(dataset, "units", info.units, what);
+  if (!info.long_name.empty()) write_string_attribute(dataset, "long_name", info.long_name, what);
+  if (info.flag) {
+    const std::uint8_t values[3] = {0, 1, 2};
+    write_attribute(dataset, "flag_values", H5T_STD_U8LE, H5T_NATIVE_UINT8, values, 3, what);
+    write_string_attribute(dataset, "flag_meanings", kStateMeanings, what);
+  }
+  if (H5Lexists(file, "/x", H5P_DEFAULT) <= 0 || H5Lexists(file, "/y", H5P_DEFAULT) <= 0) return;
+  hdf5::Dataset x(checked(H5Dopen2(file, "/x", H5P_DEFAULT), what, "open /x"));
+  hdf5::Dataset y(checked(H5Dopen2(file, "/y", H5P_DEFAULT), what, "open /y"));
+  hdf5::Space space(checked(H5Dget_space(dataset), what, "read a dataspace"));
+  hsize_t dims[2] = {0, 0};
+  if (H5Sget_simple_extent_ndims(space.get()) != 2) return;
+  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+  if (dims[0] != scale_length(y.get()) || dims[1] != scale_length(x.get())) return;
+  checked(H5DSattach_scale(dataset, y.get(), 0), what, "attach /y");
+  checked(H5DSattach_scale(dataset, x.get(), 1), what, "attach /x");
+}
+
+}  // namespace fretbem::io

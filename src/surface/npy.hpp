@@ -1,0 +1,22 @@
+// Private to surface/: the .npy parser, shared by the .npy and .npz height-map readers.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "fretbem/elastic/grid.hpp"
+
+namespace fretbem::surface_detail {
+
+/// Parses the bytes of a .npy file (v1-v3, 2-D '<f8'/'<f4', C or Fortran order) into
+/// z(i, j) = array[j][i]. `file` (and `member`, for an .npz entry) name it in messages.
+Field parse_npy(const std::filesystem::path& file, const std::string& data,
+                const std::string& member = "");
+
+/// Throws InputError "height map 'FILE': WHAT".
+[[noreturn]] void file_error(const std::filesystem::path& file, const std::string& what);
+/// Refuses empty arrays and shapes beyond 2^24 per side or 2^30 nodes (before allocating).
+void require_sane_shape(const std::filesystem::path& file, unsigned long long ny,
+                        unsigned long long nx);
+
+}  // namespace fretbem::surface_detail
