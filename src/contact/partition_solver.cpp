@@ -46,37 +46,41 @@ int solve_stick_set(TangentialOperator& op, const TangentialIncrement& inc, cons
   return max_it;
 }
 
-// Moves nodes across the partition: stick nodes over their bound start to slip; slip nodes
-// take the local Newton step y = tau + omega s (omega = 1 / C_ii, the node's own compliance:
-// the exact update of that node with the others held) and stick again when it re-enters the
-// disc, else stay on the bound along y. Setting the slip traction along s itself (the
-// earlier rule) turned nodes with a vanishing slip in arbitrary directions; under Cerruti's
-// x-y coupling four nodes cycled between stick and slip forever (issue 14, item 7).
-// Returns the number of nodes moved.
-int repartition(const TangentialIncrement& inc, const VecField& u, double omega, Field& stick,
-                VecField& tau) {
-  const Field& g = *inc.bound;
+// Moves nodes across the partition. Slip nodes first, by the projected method's slip-node
+// step (Workspace::slip_node_step): the local Newton step y = P(tau + s / C_ii) of every slip
+// node with an exact line search on the QP; nodes that re-enter their disc stick again. Then
+// stick nodes over their bound start to slip, projected radially onto it. Returns the number
+// of nodes moved.
+//
+// The line search is the fix for the partition's cycling under Cerruti's x-y coupling (issue
+// 14 item 7, issue 18): the earlier undamped simultaneous step tau + s / C_ii is a Jacobi
+// iteration on the slip directions, and Jacobi on the dense Boussinesq/Cerruti kernel
+// overshoots every smooth mode (the off-diagonal row sum over a slip ring exceeds C_ii many
+// times). Under the analogy at 0 degrees a slip direction is a sign, so the overshoot is cut
+// off by the bound and harmless; under Cerruti the y-traction of the slip ring rotates, the
+// overshoot swings it from side to side, and nodes whose slip swings backwards fall in and out
+// of the stick set (measured: 4-7 nodes cycling, residual ~0.25 for 5000 iterations).
+int repartition(Workspace& w, Field& stick, VecField& tau, VecField& u) {
+  const Field& g = *w.inc.bound;
+  NodeSets& sets = w.sets;
+  sets.nstick = 0;
+  for (std::size_t j = 0; j < sets.contact.size(); ++j)
+    sets.stick[j] = stick(sets.contact[j]) > 0.0, sets.nstick += sets.stick[j];
+  w.slip_node_step(tau, u);
   const int nc = int(tau.size());
-  const Eigen::VectorXd dU = shift_estimate(inc, u, stick);
-  const Field mag = magnitude(tau);
   int moved = 0;
-  Eigen::VectorXd s(nc), t(nc);
-  for (Eigen::Index k = 0; k < g.size(); ++k) {
-    if (!(g(k) > 0.0)) continue;
-    for (int c = 0; c < nc; ++c) s(c) = dU(c) - (u[c](k) - (*inc.u0)[c](k)), t(c) = tau[c](k);
-    if (stick(k) > 0.0) {
-      if (mag(k) <= g(k)) continue;
-      stick(k) = 0.0, ++moved;
-      t *= g(k) / mag(k);
-    } else {
-      t += omega * s;
-      const double m = t.norm();
-      if (m < g(k) * (1.0 - kBoundEps))
-        stick(k) = 1.0, ++moved;  // slipping backwards: it sticks
-      else
-        t *= g(k) / m;  // on the bound along the local solution
+  for (std::size_t j = 0; j < sets.contact.size(); ++j) {
+    const Eigen::Index k = sets.contact[j];
+    double m2 = 0.0;
+    for (int c = 0; c < nc; ++c) m2 += tau[c](k) * tau[c](k);
+    const double m = std::sqrt(m2);
+    if (sets.stick[j]) {
+      if (m <= g(k)) continue;
+      stick(k) = 0.0, ++moved;  // over its bound: it slips
+      for (int c = 0; c < nc; ++c) tau[c](k) *= g(k) / m;
+    } else if (m < g(k) * (1.0 - kBoundEps)) {
+      stick(k) = 1.0, ++moved;  // slipping backwards: re-entered its disc, it sticks
     }
-    for (int c = 0; c < nc; ++c) tau[c](k) = t(c);
   }
   return moved;
 }
@@ -101,7 +105,7 @@ TangentialResult PartitionSolver::solve(const TangentialIncrement& inc, VecField
   while (used < opt_.max_iterations) {
     used += solve_stick_set(op_, inc, stick, opt_.tolerance * w.scale, opt_.max_iterations - used,
                             tau, u);
-    const int moved = repartition(inc, u, 1.0 / op_.self_compliance(), stick, tau);
+    const int moved = repartition(w, stick, tau, u);
     op_.apply(tau, u), ++used;
     w.restore_force(tau, u);
     w.result.residual = coulomb_residual(op_.grid(), inc, tau, u, w.scale, w.result.shift, s);
@@ -109,9 +113,9 @@ TangentialResult PartitionSolver::solve(const TangentialIncrement& inc, VecField
       w.result.converged = true;
       break;
     }
-    // A partition that cycles (the same few nodes in and out, measured under Cerruti's
-    // coupling: residual ~0.25 for 5000 iterations) does not come back: stop and report, so
-    // that FallbackTangentialSolver hands the increment to the projected method at once.
+    // A partition that cycles does not come back: stop and report, so that
+    // FallbackTangentialSolver hands the increment to the projected method at once (a safety
+    // net: the Cerruti cycling that needed it is fixed in repartition).
     if (w.result.residual < 0.5 * best) best = w.result.residual, best_outer = outer;
     if (++outer - best_outer > kStagnantPartitions) break;
   }
