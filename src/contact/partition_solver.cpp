@@ -66,7 +66,7 @@ int repartition(Workspace& w, Field& stick, VecField& tau, VecField& u) {
   sets.nstick = 0;
   for (std::size_t j = 0; j < sets.contact.size(); ++j)
     sets.stick[j] = stick(sets.contact[j]) > 0.0, sets.nstick += sets.stick[j];
-  w.slip_node_step(tau, u);
+  w.slip_node_step(tau, u, false);  // the stick solve that follows restores the force
   const int nc = int(tau.size());
   int moved = 0;
   for (std::size_t j = 0; j < sets.contact.size(); ++j) {

@@ -79,8 +79,11 @@ struct Workspace {
   /// when the stick set changed.
   bool step_and_project(double alpha, const VecField& d, const VecField& q, VecField& tau,
                         VecField& u);
-  /// Line-searched local step of the slip nodes; true when a node re-entered its disc.
-  bool slip_node_step(VecField& tau, VecField& u);
+  /// Line-searched local step of the slip nodes; true when the stick set changed. Under force
+  /// control with `carry_force` the stick nodes take the step's force change within the same
+  /// line search (the projected method); the partition method, which re-solves the stick set
+  /// exactly at the force after every step, passes false.
+  bool slip_node_step(VecField& tau, VecField& u, bool carry_force = true);
   /// Uniform shift of the stick nodes' traction that restores the imposed total force; u is
   /// then updated. No-op under displacement control.
   void restore_force(VecField& tau, VecField& u);
