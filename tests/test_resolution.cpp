@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 
 #include "fretbem/history/model.hpp"
@@ -212,4 +213,37 @@ TEST(Ramp, DisplacementRampBelowSlidingIsReportedAndWritesNoCycleRows) {
   EXPECT_NEAR(std::stod(r.err.substr(at + 15)), 2.0, 0.04);
   EXPECT_EQ(read_lines(out / "cycles.csv").size(), 1u);
   fs::remove_all(work_dir());
+}
+
+// A contact that grows past the domain during the history (a table raising F_z 27-fold:
+// a = 1/4 -> 3/4 on a domain of side 1): check predicts it from the table's largest F_z, the
+// run refuses it at the step where it happens (exit 2, one line naming the step and the key);
+// on a periodic grid the same history runs without a warning.
+TEST(EdgeLoad, ContactGrowingPastTheGridDuringTheHistory) {
+  const double F0 = 4.0 / 3.0 / (1 - 0.09) * std::pow(0.25, 3);
+  std::ofstream(work_dir() / "grow.csv") << std::setprecision(17) << "time,Fz,Fx\n0," << F0
+                                         << ",0\n1," << 2 * F0 << ",0\n2," << 27 * F0 << ",0\n";
+  const std::string text =
+      "[material]\nE = 1\nnu = 0.3\nmu = 0.5\n[grid]\nn = 32\nlength = 1\n"
+      "[surface]\ntype = sphere\nradius = 1\n[load]\npath = table\ntable = grow.csv\n"
+      "[solver]\nstiffness = false\n";
+  const fs::path ini = write_ini("grow", text);
+  const Result c = cli("check " + ini.string());
+  EXPECT_EQ(c.status, 0);
+  EXPECT_NE(c.out.find("reaches the outermost cells"), std::string::npos) << c.out;
+  const fs::path out = work_dir() / "grow_run";
+  fs::remove_all(out);
+  const Result r = cli("run " + ini.string() + " --quiet --out " + out.string());
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err.rfind("fretbem: error: step 2: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("grid.allow_edge_contact"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
+  fs::remove_all(out);
+  std::string ptext = text;
+  ptext.replace(ptext.find("length = 1\n"), 11, "length = 1\nperiodic = true\n");
+  const fs::path periodic = write_ini("grow_periodic", ptext);
+  const Result p = cli("run " + periodic.string() + " --quiet --out " + out.string());
+  EXPECT_EQ(p.status, 0) << p.err;
+  EXPECT_EQ(p.err.find("outermost"), std::string::npos) << p.err;
+  fs::remove_all(out);
 }

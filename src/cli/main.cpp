@@ -249,7 +249,7 @@ int cmd_check(const Args& a) {
                 sc.grid.ny, format_number(sc.wear.cycles).c_str());
   std::fputs(check_report(*model).c_str(), stdout);
   // Resolution and domain predicted from Hertz for spheres (issues 17 §3, 18).
-  if (const auto p = predict_sphere(sc))
+  if (const auto p = predict_sphere(sc, model->path))
     for (const auto& line : describe(*p, sc)) std::printf("  %s\n", line.c_str());
   return 0;
 }

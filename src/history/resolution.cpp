@@ -1,5 +1,6 @@
 #include "fretbem/history/resolution.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -105,6 +106,20 @@ std::optional<SpherePrediction> predict_sphere(const Scenario& sc) {
   if (!sc.grid.periodic && p.a > r0)
     p.edge_share = std::pow(1 - std::pow(std::max(r0, 0.0) / p.a, 2), 1.5);
   return p;
+}
+
+std::optional<SpherePrediction> predict_sphere(const Scenario& sc, const LoadPath& path) {
+  double force = 0.0, indentation = 0.0;
+  for (const LoadStep& st : path.steps) {
+    double& peak = st.normal.force_control ? force : indentation;
+    peak = std::max(peak, st.normal.value);
+  }
+  Scenario at_peak = sc;
+  if (force > 0.0)
+    at_peak.load.normal_force = force, at_peak.load.indentation.reset();
+  else if (indentation > 0.0)
+    at_peak.load.indentation = indentation, at_peak.load.normal_force.reset();
+  return predict_sphere(at_peak);
 }
 
 std::vector<std::string> describe(const SpherePrediction& p, const Scenario& sc) {

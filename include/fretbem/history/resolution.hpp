@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fretbem/contact/interface_state.hpp"
+#include "fretbem/history/load_path.hpp"
 #include "fretbem/history/observables.hpp"
 #include "fretbem/scenario/scenario.hpp"
 
@@ -54,6 +55,11 @@ struct SpherePrediction {
   double ramp_ratio = 0;     ///< U* / displacement amplitude of a displacement ramp (else 0)
 };
 std::optional<SpherePrediction> predict_sphere(const Scenario& sc);
+/// The same at the largest normal load of the path (a table's Fz or delta column may raise it
+/// above the constant load, or be the only one): what `fretbem check` reports, so that a
+/// contact that grows past the domain later in the history is predicted before the run
+/// refuses it at that step.
+std::optional<SpherePrediction> predict_sphere(const Scenario& sc, const LoadPath& path);
 /// The lines `fretbem check` prints for a prediction: facts, then warnings prefixed "warning:".
 std::vector<std::string> describe(const SpherePrediction& p, const Scenario& sc);
 
