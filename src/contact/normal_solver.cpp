@@ -17,6 +17,22 @@ constexpr double kBulkExit = 0.01;
 // improved on it for this many iterations.
 constexpr double kGrowth = 100.0;
 constexpr int kStagnation = 200;
+
+// Whether solver.precondition asks for the preconditioned direction.
+bool preconditioned(const NormalOptions& opt, const Grid& g) {
+  return opt.precondition == Precondition::on ||
+         (opt.precondition == Precondition::automatic && g.size() >= 256 * 256);
+}
+
+// z = S K^-1 (S g), mean-free on S under force control so that directions keep the force (g is
+// mean-free on S there, so g . z is unchanged by the shift).
+const Field& preconditioned_direction(HalfSpace& hs, const Eigen::ArrayXXd& S, const Field& g,
+                                      bool force_control, Field& z) {
+  hs.normal_inverse(S * g, z);
+  z *= S;
+  if (force_control) z -= S * ((S * z).sum() / std::max(1.0, S.sum()));
+  return z;
+}
 }  // namespace
 
 NormalSolver::NormalSolver(HalfSpace& half_space, NormalOptions options)
@@ -73,7 +89,7 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
   hs_.normal(p, u_);
   const double area = grid.cell_area();
   double g_old = 1.0, delta = force_control ? 0.0 : target;
-  bool restart = true, verified = false, cold = !warm;
+  bool restart = true, verified = false, cold = !warm, forced = false;
   std::vector<std::int64_t> idx;
   std::vector<double> val;
   t_ = grid.zeros();
@@ -94,8 +110,14 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
     res.iterations = it;
     if (res.residual < best) best = res.residual, best_it = it;
     // A warm start far from the solution (thousands of nodes to leave a worn annulus, issue
-    // 12) can make the iteration climb or stall; the cold start does not depend on it.
-    if (!cold && (res.residual > kGrowth * best || it - best_it > kStagnation)) {
+    // 12) can make the iteration climb or stall; the cold start does not depend on it. From
+    // the cold start, plain Polonsky–Keer can cycle on a worn conforming annulus (measured,
+    // issue 12: n = 32, Q = 0.9 mu P, contact sets of 468 -> 268 -> 132 -> 468 nodes, residual
+    // 0.11 -> 0.023 -> 0.016, period 3, for 5000 iterations); the preconditioned direction
+    // S K^-1 S g converged there in 17 iterations: it is the last resort.
+    const bool stalled = res.residual > kGrowth * best || it - best_it > kStagnation;
+    if (stalled && (!cold || !(forced || preconditioned(opt_, grid)))) {
+      forced = cold;
       cold_start();
       continue;
     }
@@ -111,7 +133,8 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
     verified = false;
     if (it == opt_.max_iterations) break;
     const Eigen::ArrayXXd S = (p > 0.0).cast<double>();  // evaluated now: p changes below
-    const Field& z = precondition(S, force_control);
+    const Field& z = forced ? preconditioned_direction(hs_, S, g_, force_control, z_)
+                            : precondition(S, force_control);
     const double G = (S * g_ * z).sum();
     t_ = S * (z + (restart ? 0.0 : G / g_old) * t_);
     g_old = G;
@@ -175,16 +198,10 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
 }
 
 // The search direction's raw material: the gap g itself (Polonsky–Keer) or, preconditioned,
-// z = S K^-1 (S g), mean-free on S under force control so that directions keep the force
-// (g is mean-free on S there, so g . z is unchanged by the shift).
+// z = S K^-1 (S g) (preconditioned_direction).
 const Field& NormalSolver::precondition(const Eigen::ArrayXXd& S, bool force_control) {
-  const bool on = opt_.precondition == Precondition::on ||
-                  (opt_.precondition == Precondition::automatic && hs_.grid().size() >= 256 * 256);
-  if (!on) return g_;
-  hs_.normal_inverse(S * g_, z_);
-  z_ *= S;
-  if (force_control) z_ -= S * ((S * z_).sum() / std::max(1.0, S.sum()));
-  return z_;
+  if (!preconditioned(opt_, hs_.grid())) return g_;
+  return preconditioned_direction(hs_, S, g_, force_control, z_);
 }
 
 // Relative KKT residual: rms gap on S and rms penetration off S, over the rms displacement on S.

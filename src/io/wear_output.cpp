@@ -128,10 +128,9 @@ WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume, long max
   if (!quiet) {
     const double V = rep.worn.sum() * model.scenario.grid.cell_area();
     const double s = model.scenario.wear.indenter_share;
-    const bool cycles = model.scenario.wear.integrator == WearIntegrator::cycle;
+    const bool cycles = rep.cycle_by_cycle;
     std::printf("fretbem: wear to N = %.6g with %.6g simulated cycles (%d wear-map evaluations",
                 rep.N, rep.simulated_cycles, rep.rhs_evaluations);
-    if (rep.retries > 0) std::printf("; %ld failed solves retried warm-started", rep.retries);
     if (cycles)
       std::printf(", cycle by cycle)\n");
     else

@@ -356,4 +356,16 @@ void read_friction(const Reader& r, const LoadSpec& l, double mu, FrictionSpec& 
                                        "lower it or use load.control = displacement");
 }
 
+// A friction law whose coefficient follows the accumulated slip or dissipation needs the
+// physical history of every cycle: the ODE integrators' wear map is the steady cycle of a
+// surface from a traction-free state (docs/wear.md), which would restart the evolution at mu_0
+// in every evaluation and integrate the whole run at the first cycle's friction.
+void check_wear_friction(const Reader& r, const WearSpec& w, const FrictionSpec& f) {
+  if (w.law != WearLaw::none && f.law == FrictionLawKind::evolving &&
+      w.integrator != WearIntegrator::cycle)
+    r.fail_value("friction.law",
+                 "needs wear.integrator = cycle in a wear run (the ODE integrators' "
+                 "wear map restarts the friction evolution in every evaluation)");
+}
+
 }  // namespace fretbem::scenario_detail

@@ -21,6 +21,8 @@ void read_wear(const Reader& r, WearSpec& w);
 /// [friction]: the law and its parameters (mu is material.mu); checks force amplitudes against
 /// the lowest mu the law reaches.
 void read_friction(const Reader& r, const LoadSpec& l, double mu, FrictionSpec& f);
+/// Combinations of friction law and wear integrator that a wear run cannot honour.
+void check_wear_friction(const Reader& r, const WearSpec& w, const FrictionSpec& f);
 
 /// The resolved scenario as INI text: every key with its final value, unset ones as comments.
 std::string resolved_text(const Scenario& s);

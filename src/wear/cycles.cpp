@@ -101,37 +101,13 @@ void WearCycles::start() {
 
 StepRecord WearCycles::step(const LoadStep& ls, double time, bool emit) {
   const bool initial = &ls == &initial_;
-  StepRecord rec = advance(ls, initial ? 0 : 1);
+  StepRecord rec = stepper_.advance(ls, initial ? 0 : 1);
   rec.step = row_;
   rec.time = time;
   rec.cycle = int(std::floor(time + 1e-12));
   if (!emit) return rec;
   ++row_;
   for (auto* o : observers_) o->on_step(rec, stepper_.state(), model_);
-  return rec;
-}
-
-// WORKAROUND (issue 12, measurement 2) until the normal solver restarts itself (branch
-// solvers): the wear code's normal solves start cold, and Polonsky–Keer still stalls on some
-// worn conforming surfaces from either start (docs/wear.md, "Workarounds"). A failed step is
-// retried once from the state before it, its normal solve warm-started from the last converged
-// pressure; a second failure is the run's.
-StepRecord WearCycles::advance(const LoadStep& ls, int index) {
-  const InterfaceState before = stepper_.state();
-  const StepperMemory memory = stepper_.memory();
-  StepRecord rec;
-  try {
-    rec = stepper_.advance(ls, index);
-  } catch (const SolverError&) {
-    if (warm_.size() == 0) throw;
-    InterfaceState s = before;
-    s.pressure = warm_;
-    stepper_.restore(s, memory);
-    stepper_.surface_changed();
-    rec = stepper_.advance(ls, index);
-    ++retries_;
-  }
-  warm_ = stepper_.state().pressure;
   return rec;
 }
 
@@ -195,14 +171,10 @@ Field WearCycles::pressure_on(const Field& worn) {
 }
 
 void WearCycles::apply(const Field& rate) {
+  // The next cycle's normal solve is warm-started from this cycle's pressure (the tractions
+  // are carried): the normal solver restarts itself when nodes leave contact in bulk and falls
+  // back to a cold start on stagnation (issue 12, measurement 2).
   model_.surface -= rate;
-  // Cold start of the next normal solve (zero pressure), as in fresh(): warm-started from the
-  // pressure of a worn conforming annulus Polonsky–Keer stalled (issue 12, measurement 2).
-  // WORKAROUND until the normal solver restarts itself (branch solvers); the tractions are
-  // carried.
-  InterfaceState s = stepper_.state();
-  s.pressure.setZero();
-  stepper_.restore(s, stepper_.memory());
   stepper_.surface_changed();
 }
 

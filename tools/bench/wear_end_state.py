@@ -32,8 +32,7 @@ def run(binary, n, q, law, k, integrator, nk=1e-6):
     scenario = os.path.join(os.path.dirname(__file__), "..", "..", "scenarios", "fretting_wear.ini")
     with tempfile.TemporaryDirectory() as out:
         sets = {"grid.n": n, "load.amplitude": q, "wear.law": law, "wear.coefficient": k,
-                "wear.cycles": N, "wear.integrator": integrator, "wear.rtol": 1e-2,
-                "solver.precondition": "off"}  # issue 12 workaround until branch solvers lands
+                "wear.cycles": N, "wear.integrator": integrator, "wear.rtol": 1e-2}
         args = [binary, "run", scenario, "--quiet", "--out", out]
         for key, v in sets.items():
             args += ["--set", f"{key}={v}"]

@@ -92,6 +92,7 @@ struct WearReport {
   int rhs_evaluations = 0;         ///< wear-map evaluations (cycles in cycle mode)
   long steps = 0, rejected = 0;    ///< integrator steps (arkode/dirk), all invocations
   bool implicit = false;           ///< the implicit method ran (dirk, or arkode's choice)
+  bool cycle_by_cycle = false;     ///< every cycle simulated (cycle mode, or a short run)
   /// Implicit integrator: Newton iterations and their convergence failures, Krylov iterations
   /// (wear.newton = krylov), inner CG iterations (= convolutions) of the frozen-slip solves.
   long newton_iterations = 0, newton_failures = 0, krylov_iterations = 0, inner_iterations = 0;
@@ -99,7 +100,6 @@ struct WearReport {
   /// cheaper, and the cycles they covered.
   long stretches = 0;
   double stretch_cycles = 0.0;
-  long retries = 0;      ///< failed steps that succeeded when retried warm-started (workaround)
   double N = 0.0;        ///< cycle count reached
   bool stopped = false;  ///< stopped by the step budget before wear.cycles
 };
@@ -143,8 +143,6 @@ class WearCycles {
   const Field& pressure() const { return stepper_.state().pressure; }
   double simulated() const { return simulated_; }
   int evaluations() const { return evaluations_; }
-  /// Steps whose solve failed and succeeded when retried warm-started (workaround, docs/wear.md).
-  long retries() const { return retries_; }
   WearCounters counters() const { return {simulated_, evaluations_, row_, index_}; }
   /// Resume: continue the counters; the stepper state was restored by the caller, and the
   /// surface changed since its last normal solve (cycle mode applies a cycle's wear before
@@ -154,7 +152,6 @@ class WearCycles {
  private:
   void fresh(const Field& worn);
   StepRecord step(const LoadStep& ls, double time, bool emit);
-  StepRecord advance(const LoadStep& ls, int index);
   WearCycle measure(double N, const std::vector<LoadStep>& steps, double t_shift);
 
   Model& model_;
@@ -165,8 +162,6 @@ class WearCycles {
   double turn_ = 0.0;                              // time of the first turning point
   double simulated_ = 0.0;
   int evaluations_ = 0, row_ = 0, index_ = 0;
-  Field warm_;        // last converged pressure (retry start of a failed step)
-  long retries_ = 0;  // failed steps retried
 };
 
 /// Runs wear.integrator to wear.cycles. log may be null. With `resume`, continues from that
