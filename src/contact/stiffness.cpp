@@ -12,8 +12,17 @@ namespace fretbem {
 namespace {
 
 // Recently solved stick sets kept for reuse: a cycle meets the full contact (after each
-// reversal) and the turning-point sets of both signs; four covers them with room to spare.
-constexpr std::size_t kKnownSets = 4;
+// reversal) and the turning-point sets of both signs; a periodic history started from the
+// previous cycle's solution (solver.predictor = cycle) meets a whole cycle of sets again. 160
+// covers a cycle of up to 160 steps at 20 bytes per cell at most (one bit per node and set).
+constexpr std::size_t kKnownSets = 160;
+
+std::vector<std::uint64_t> pack(const std::vector<std::uint8_t>& flags) {
+  std::vector<std::uint64_t> bits((flags.size() + 63) / 64, 0);
+  for (std::size_t k = 0; k < flags.size(); ++k)
+    if (flags[k]) bits[k / 64] |= std::uint64_t(1) << (k % 64);
+  return bits;
+}
 
 }  // namespace
 
@@ -73,8 +82,9 @@ StiffnessResult StiffnessSolver::solve(const StateField& state) {
   if (nodes_.empty()) return res;  // full sliding: no stiffness
   // k_x depends on the stick set alone: a set met recently (an unchanged step, the full
   // contact after a reversal) needs no new solve.
+  const std::vector<std::uint64_t> bits = pack(stick);
   for (const Known& kn : known_)
-    if (kn.stick == stick) {
+    if (kn.count == nodes_.size() && kn.stick == bits) {
       res.kx = kn.kx;
       res.reused = true;
       return res;
@@ -130,7 +140,7 @@ StiffnessResult StiffnessSolver::solve(const StateField& state) {
     throw SolverError(msg.str());
   }
   res.kx = psi_[0].sum() * op_.grid().cell_area();
-  known_.push_front({std::move(stick), res.kx});
+  known_.push_front({nodes_.size(), bits, res.kx});
   if (known_.size() > kKnownSets) known_.pop_back();
   return res;
 }

@@ -209,8 +209,44 @@ Workspace::Workspace(TangentialOperator& op_, const TangentialIncrement& inc_,
 
 void Workspace::start(VecField& tau, VecField& u) {
   const bool moved = project_all(*inc.bound, tau);
-  if (moved || u.size() != tau.size()) op.apply(tau, u);
+  if (moved || u.size() != tau.size()) op.apply(tau, u), exact = true;
   if (inc.control == TangentialControl::force) start_force(tau, u);
+  if (inc.guess) start_guess(tau, u);
+}
+
+double Workspace::energy(const VecField& t, const VecField& w) const {
+  double e = 0.0;
+  for (std::size_t c = 0; c < t.size(); ++c) {
+    const Field dt = t[c] - (*inc.tau0)[c];
+    e += 0.5 * (dt * (w[c] - (*inc.u0)[c])).sum();
+    // Under force control sum dtau is fixed, so the shift term is the same for every start.
+    if (inc.control == TangentialControl::displacement) e -= inc.target(c) * dt.sum();
+  }
+  return e;
+}
+
+// The predictor made feasible (inside the discs; under force control shifted to the target
+// force as start_force does), imaged by one product, and kept when its QP energy is below the
+// current start's. A predictor close to the solution (the same step of the previous cycle of
+// a periodic history) then leaves the solver little or nothing to do.
+void Workspace::start_guess(VecField& tau, VecField& u) {
+  const Field& g = *inc.bound;
+  VecField tg = *inc.guess;
+  if (tg.size() != tau.size()) return;
+  project_all(g, tg);
+  if (inc.control == TangentialControl::force) {
+    const double tol = 1e-15 * gsum;
+    const Eigen::VectorXd want = inc.target / op.grid().cell_area();
+    sets.classify(g, tg);
+    if (shift_to_force(false, want, tg).mismatch > tol &&
+        shift_to_force(true, want, tg).mismatch > tol)
+      return;
+  }
+  VecField ug;
+  op.apply(tg, ug);
+  if (!(energy(tg, ug) < energy(tau, u))) return;
+  tau = std::move(tg), u = std::move(ug);
+  exact = true;
 }
 
 double Workspace::residual(const VecField& tau, const VecField& u, double& stick_slip2) {
@@ -226,12 +262,6 @@ void Workspace::start_force(VecField& tau, VecField& u) {
   const double area = op.grid().cell_area(), tol = 1e-15 * g.sum();
   const Eigen::VectorXd want = inc.target / area;
   if ((total_force(tau, op.grid()) / area - want).norm() <= tol) return;
-  auto energy = [&](const VecField& t, const VecField& w) {
-    double e = 0.0;
-    for (std::size_t c = 0; c < t.size(); ++c)
-      e += 0.5 * ((t[c] - (*inc.tau0)[c]) * (w[c] - (*inc.u0)[c])).sum();
-    return e;
-  };
   VecField ta = tau, ua, tb = tau, ub;
   sets.classify(g, tau);
   const bool a_ok = shift_to_force(false, want, ta).mismatch <= tol;
@@ -240,11 +270,11 @@ void Workspace::start_force(VecField& tau, VecField& u) {
   if (a_ok) {
     op.apply(ta, ua);
     if (energy(ta, ua) < energy(tb, ub)) {
-      tau = std::move(ta), u = std::move(ua);
+      tau = std::move(ta), u = std::move(ua), exact = true;
       return;
     }
   }
-  tau = std::move(tb), u = std::move(ub);
+  tau = std::move(tb), u = std::move(ub), exact = true;
 }
 
 // Euclidean projection onto {|tau_i| <= g_i, sum tau h^2 = F} over a set of movable nodes:

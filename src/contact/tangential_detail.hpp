@@ -71,6 +71,10 @@ struct Workspace {
   /// Makes the warm start feasible (and of the right force under force control), with u = C tau.
   void start(VecField& tau, VecField& u);
   void start_force(VecField& tau, VecField& u);
+  /// Takes inc.guess (made feasible) instead of tau when its QP energy is lower.
+  void start_guess(VecField& tau, VecField& u);
+  /// QP objective of the increment, 1/2 dtau . C dtau - dU . sum dtau (per cell area).
+  double energy(const VecField& t, const VecField& w) const;
   /// Coulomb residual of (tau, u); classifies `sets`, sets result.shift.
   double residual(const VecField& tau, const VecField& u, double& stick_slip2);
   /// The CG step tau += alpha d, u += alpha q from the stick set `sets.stick` (still the set
@@ -111,6 +115,7 @@ struct Workspace {
   std::vector<Eigen::Index> back_idx;
   std::vector<std::vector<double>> back_val;
   std::int64_t conv0 = 0;
+  bool exact = false;  ///< u was set to C tau by one product at the start (no drift yet)
   TangentialResult result;
 };
 

@@ -38,7 +38,13 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m) {
 }
 
 StepRecord Stepper::advance(std::size_t k) {
-  const StepRecord rec = advance(model_.path.steps.at(k), int(k));
+  const std::vector<LoadStep>& steps = model_.path.steps;
+  const bool predict = model_.scenario.solver.cycle_predictor && k > 0;
+  const Grid& g = model_.half_space->grid();
+  guess_ = predict ? predictor_.find(steps.at(k - 1), steps.at(k), g.nx, g.ny) : nullptr;
+  const StepRecord rec = advance(steps.at(k), int(k));
+  guess_ = nullptr;
+  if (predict) predictor_.remember(steps[k - 1], steps[k], state_.traction, bound_);
   next_ = k + 1;
   return rec;
 }
@@ -145,6 +151,7 @@ bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
   inc.bound = &bound_;
   inc.tau0 = &tau0;
   inc.u0 = &u0;
+  inc.guess = guess_;
   if (ls.control == Control::displacement) {
     inc.control = TangentialControl::displacement;
     inc.target = op.to_local(ls.target - state_.shift);

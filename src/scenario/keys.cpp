@@ -57,6 +57,7 @@ const std::vector<std::string> kKeys = {
     "solver.fft_precision",
     "solver.precondition",
     "solver.monotone",
+    "solver.predictor",
     "output.dir",
     "output.fields",
     "output.fields_every",

@@ -1,7 +1,9 @@
 // Time per load cycle of the Mindlin–Deresiewicz fretting loop (issues 4 and 13 "Speed"): Hertz
 // sphere, contact radius L/4, force control +-0.6 mu F_z, 64 steps per cycle, at n = 128, 256,
-// 512, with solver.stiffness = every, turning and none. Reports the median wall and process CPU
-// time of a steady (second) cycle, the convolutions it used, and the CPU time in units of one
+// 512, with solver.stiffness = every, turning and none, and solver.predictor = none and cycle.
+// Reports the median wall and process CPU time of the second cycle (with the predictor also of
+// the third: the second is the first it predicts, from a first cycle whose opening quarter was
+// the virgin loading), the convolutions it used, and the CPU time in units of one
 // bare convolution of the same padded size measured in the same run (machine-independent),
 // and per convolution the solvers performed (the overhead of their element-wise passes).
 // FFT plans as `fretbem run` makes them (MEASURE with wisdom), one thread.
@@ -20,13 +22,13 @@ using namespace fretbem;
 
 namespace {
 
-std::string scenario(int n, const char* stiffness) {
+std::string scenario(int n, const char* stiffness, const char* predictor, int cycles) {
   return "[material]\nE = 1\nnu = 0.3\nmu = 0.5\n[grid]\nn = " + std::to_string(n) +
          "\nlength = 1\n[surface]\ntype = sphere\nradius = 1\n[load]\nnormal_force = " +
          std::to_string(4.0 / 3.0 / 0.91 * 0.25 * 0.25 * 0.25) +
-         "\npath = sine\ncontrol = force\namplitude = 0.6\ncycles = 2\nsteps_per_cycle = 64\n"
-         "[solver]\nthreads = 1\nstiffness = " +
-         stiffness + "\n";
+         "\npath = sine\ncontrol = force\namplitude = 0.6\ncycles = " + std::to_string(cycles) +
+         "\nsteps_per_cycle = 64\n[solver]\nthreads = 1\nstiffness = " + stiffness +
+         "\npredictor = " + predictor + "\n";
 }
 
 struct CycleCost {
@@ -38,17 +40,23 @@ double cpu_now() {
   return double(std::clock()) / CLOCKS_PER_SEC;
 }
 
-// Runs the first cycle (transient), then times the second one.
-CycleCost steady_cycle(int n, const char* stiffness) {
-  auto model = build_model(parse_scenario(scenario(n, stiffness), "bench", "."));
+// Runs the first cycle (transient), then times each later one.
+std::vector<CycleCost> later_cycles(int n, const char* stiffness, const char* predictor,
+                                    int cycles) {
+  auto model = build_model(parse_scenario(scenario(n, stiffness, predictor, cycles), "bench", "."));
   Stepper stepper(*model);
   std::size_t k = 0;
-  for (; model->path.steps[k].time <= 1.0 + 1e-12; ++k) stepper.advance(k);
-  const auto c0 = model->half_space->convolutions();
-  const auto t0 = bench::Clock::now();
-  const double cpu0 = cpu_now();
-  for (; k < stepper.steps(); ++k) stepper.advance(k);
-  return {bench::seconds_since(t0), cpu_now() - cpu0, long(model->half_space->convolutions() - c0)};
+  std::vector<CycleCost> out;
+  for (int c = 1; c <= cycles; ++c) {
+    const auto c0 = model->half_space->convolutions();
+    const auto t0 = bench::Clock::now();
+    const double cpu0 = cpu_now();
+    for (; k < stepper.steps() && model->path.steps[k].time <= c + 1e-12; ++k) stepper.advance(k);
+    if (c > 1)
+      out.push_back({bench::seconds_since(t0), cpu_now() - cpu0,
+                     long(model->half_space->convolutions() - c0)});
+  }
+  return out;
 }
 
 // One bare convolution (HalfSpace::normal) with the plans a run uses, CPU seconds.
@@ -78,23 +86,32 @@ int main(int argc, char** argv) {
       usage);
   std::printf("load average %.2f at start\n\n", bench::load_average());
   std::printf(
-      "| n | stiffness | cycle wall (s) | cycle CPU (s) | convolutions / cycle | conv CPU (ms) "
-      "| cycle CPU / conv | CPU per solver convolution / conv |\n");
-  std::printf("|---|---|---|---|---|---|---|---|\n");
+      "| n | stiffness | predictor | cycle | cycle wall (s) | cycle CPU (s) | convolutions / cycle "
+      "| conv CPU (ms) | cycle CPU / conv | CPU per solver convolution / conv |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (int n = min_n; n <= max_n; n *= 2) {
-    for (const char* stiff : {"every", "turning", "none"}) {
-      std::vector<double> wall, cpu;
-      long conv = 0;
-      for (int r = 0; r < repeats; ++r) {
-        const CycleCost c = steady_cycle(n, stiff);
-        wall.push_back(c.wall), cpu.push_back(c.cpu), conv = c.convolutions;
+    for (const char* predictor : {"none", "cycle"}) {
+      const int cycles = predictor[0] == 'n' ? 2 : 3;
+      for (const char* stiff : {"every", "turning", "none"}) {
+        std::vector<std::vector<double>> wall(cycles - 1), cpu(cycles - 1);
+        std::vector<long> conv(cycles - 1);
+        for (int r = 0; r < repeats; ++r) {
+          const std::vector<CycleCost> cs = later_cycles(n, stiff, predictor, cycles);
+          for (std::size_t i = 0; i < cs.size(); ++i)
+            wall[i].push_back(cs[i].wall), cpu[i].push_back(cs[i].cpu),
+                conv[i] = cs[i].convolutions;
+        }
+        const double tc = bare_convolution(n);
+        for (std::size_t i = 0; i < conv.size(); ++i) {
+          const double tm = bench::median(cpu[i]);
+          // Last column: what one convolution of the solvers costs with the element-wise passes
+          // and sparse updates around it, in bare convolutions (1 = no overhead).
+          std::printf("| %d | %s | %s | %zu | %.3f | %.3f | %ld | %.3f | %.0f | %.2f |\n", n, stiff,
+                      predictor, i + 2, bench::median(wall[i]), tm, conv[i], 1e3 * tc, tm / tc,
+                      tm / tc / double(conv[i]));
+        }
+        std::fflush(stdout);
       }
-      const double tc = bare_convolution(n), tm = bench::median(cpu);
-      // Last column: what one convolution of the solvers costs with the element-wise passes and
-      // sparse updates around it, in bare convolutions (1 = no overhead).
-      std::printf("| %d | %s | %.3f | %.3f | %ld | %.3f | %.0f | %.2f |\n", n, stiff,
-                  bench::median(wall), tm, conv, 1e3 * tc, tm / tc, tm / tc / double(conv));
-      std::fflush(stdout);
     }
   }
   std::printf("\nload average %.2f at end\n", bench::load_average());

@@ -45,10 +45,12 @@ class StiffnessSolver {
   std::vector<Eigen::Index> nodes_;    ///< grid indices of the stick nodes of this solve
   std::vector<std::uint8_t> psi_set_;  ///< stick flags (per grid node) psi_ is supported on
   VecField psi_, u_, r_, z_, d_, q_;   ///< u_ = C psi_ on the whole grid
-  /// k_x of the last few stick sets: a cyclic run meets the same sets again (the full
-  /// contact after every reversal, the smallest set at every turning point).
+  /// k_x of recent stick sets: a cyclic run meets the same sets again (the full contact after
+  /// every reversal, the smallest set at every turning point, and with solver.predictor =
+  /// cycle whole cycles of them). Sets are kept one bit per node.
   struct Known {
-    std::vector<std::uint8_t> stick;
+    std::size_t count;                 ///< stick nodes (a cheap first comparison)
+    std::vector<std::uint64_t> stick;  ///< bit k: node k sticks
     double kx;
   };
   std::deque<Known> known_;

@@ -37,6 +37,10 @@ struct TangentialIncrement {
   const VecField* u0 = nullptr;    ///< C tau0 (m)
   TangentialControl control = TangentialControl::displacement;
   Eigen::VectorXd target;  ///< dU (m) or total force F (N), operator components
+  /// Optional predictor of the solution (Pa), e.g. the same step of the previous load cycle:
+  /// projected onto the discs and the force, it replaces the start when its QP energy is lower.
+  /// It changes only where the iteration starts, never the converged answer's tolerance.
+  const VecField* guess = nullptr;
 };
 
 /// Convergence report of one increment. residual: rms over contact nodes of the violation of

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "fretbem/history/cycle_predictor.hpp"
 #include "fretbem/history/failed_solve.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/observables.hpp"
@@ -83,7 +84,9 @@ class Stepper {
   double wear_volume_ = 0.0;
   std::size_t next_ = 0;
   bool surface_changed_ = false;
-  double wear_cycle_ = -1.0;  // < 0: not a wear run
+  double wear_cycle_ = -1.0;         // < 0: not a wear run
+  CyclePredictor predictor_;         ///< solver.predictor = cycle
+  const VecField* guess_ = nullptr;  ///< the predictor of the step being advanced
 };
 
 }  // namespace fretbem

@@ -76,6 +76,11 @@ struct SolverSpec {
   /// Virgin monotone segments at constant normal load by the Ciavarella–Jäger superposition
   /// (analogy, collinear paths) instead of incremental solves.
   bool shortcut = false;
+  /// solver.predictor = cycle: a tangential increment also tries, as its start, the traction of
+  /// the same step one load cycle earlier (the step with the same previous and current load).
+  /// Opt-in: the remembered tractions are not in the checkpoint, so a resumed run would start
+  /// those increments elsewhere and differ from the uninterrupted one within the tolerance.
+  bool cycle_predictor = false;
   /// Fourier preconditioning of the normal CG and the tangential projected CG; automatic: the
   /// measured rules (normal: from 256 x 256 cells; tangential: contact patch >= 2048 nodes).
   Precondition precondition = Precondition::automatic;
