@@ -371,3 +371,22 @@ TEST(Coupling, ShearLinearAndApproachQuadraticInBeta) {
   EXPECT_NEAR(da / db, 4.0, 0.4);
   EXPECT_LT(std::abs(da), 0.05 * o.rows[0].delta);  // "almost unchanged"
 }
+
+// Convergence under grid refinement of the coupled normal loading (rigid sphere on nu = 0.3,
+// mu = 0.5, a = L/4 = 6, 12, 24 cells): the radial resultant of the shear and the change of
+// the approach against Cerruti settle, their successive differences shrinking.
+TEST(Coupling, NormalLoadingConvergesUnderRefinement) {
+  const std::string load = "normal_force = 0.0229\npath = none";
+  std::vector<double> shear, approach;
+  for (int n : {24, 48, 96}) {
+    const Recorder r = run(sphere(n, kRigidOnSoft, load, "coupling = coupled"));
+    const Recorder o = run(sphere(n, kRigidOnSoft, load, "coupling = cerruti"));
+    shear.push_back(radial_shear(r.last) / 0.0229);
+    approach.push_back(r.rows[0].delta / o.rows[0].delta - 1);
+    std::printf("n = %2d: radial shear / F_z = %.5f, delta / delta_uncoupled - 1 = %+.5f, "
+                "%d alternations\n",
+                n, shear.back(), approach.back(), r.rows[0].coupling_iterations);
+  }
+  EXPECT_LT(std::abs(shear[2] - shear[1]), 0.7 * std::abs(shear[1] - shear[0]));
+  EXPECT_LT(std::abs(approach[2] - approach[1]), 0.7 * std::abs(approach[1] - approach[0]));
+}
