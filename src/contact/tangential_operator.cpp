@@ -20,7 +20,7 @@ void TangentialOperator::add_sparse(std::span<const std::int64_t> idx,
                                     const VecField& tau, VecField& u) {
   if (idx.empty()) return;
   // Sparse direct summation pays for itself below HalfSpace::sparse_limit() changed nodes.
-  if (idx.size() > hs_.sparse_limit() || hs_.coupling() == Coupling::cerruti) {
+  if (idx.size() > hs_.sparse_limit() || hs_.coupling() != Coupling::analogy) {
     apply(tau, u);
     return;
   }

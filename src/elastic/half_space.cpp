@@ -139,6 +139,8 @@ struct Engine {
   typename Api::Plan forward = nullptr, inverse = nullptr;
   Spectrum<Real> sz, sxx, syy, sxy;  // Cerruti spectra share one scale (they are mixed)
   Spectrum<Real> sz_inv;             // 1 / spectrum, built on first use
+  // Normal-tangential cross kernels: odd, so their spectra are imaginary; v holds Im / n.
+  Spectrum<Real> szx, szy;
 
   Engine(int n0_, int n1_, FftOptions opt) : n0(n0_), n1(n1_), nc(n1_ / 2 + 1) {
     const std::size_t nr = std::size_t(n0) * n1, ncx = std::size_t(n0) * nc;
@@ -241,6 +243,42 @@ struct Engine {
     store(uy, sxx.scale);
   }
 
+  // uz = F^-1[i (szx F[tx] + szy F[ty])]: the normal approach of tractions (three transforms).
+  void convolve_cross_normal(const Field& tx, const Field& ty, Field& uz, int nx, int ny) {
+    load(tx);
+    r2c(c1.get());
+    load(ty);
+    r2c(c2.get());
+    const std::size_t ns = std::size_t(n0) * nc;
+    for (std::size_t k = 0; k < ns; ++k) {
+      const Real re = szx.v[k] * c1[k][0] + szy.v[k] * c2[k][0];
+      const Real im = szx.v[k] * c1[k][1] + szy.v[k] * c2[k][1];
+      c3[k][0] = -im, c3[k][1] = re;  // times i
+    }
+    uz.resize(nx, ny);
+    c2r(c3.get());
+    store(uz, szx.scale);
+  }
+
+  // (ux, uy) = F^-1[-i (szx, szy) F[p]]: the transpose of convolve_cross_normal (the kernels
+  // are odd, so transposing flips their sign).
+  void convolve_cross_tangential(const Field& p, Field& ux, Field& uy, int nx, int ny) {
+    load(p);
+    r2c(c1.get());
+    const std::size_t ns = std::size_t(n0) * nc;
+    for (std::size_t k = 0; k < ns; ++k) {
+      const Real re = c1[k][0], im = c1[k][1];
+      c2[k][0] = szx.v[k] * im, c2[k][1] = -szx.v[k] * re;  // times -i szx
+      c3[k][0] = szy.v[k] * im, c3[k][1] = -szy.v[k] * re;
+    }
+    ux.resize(nx, ny);
+    uy.resize(nx, ny);
+    c2r(c2.get());
+    store(ux, szx.scale);
+    c2r(c3.get());
+    store(uy, szx.scale);
+  }
+
   // The preconditioner's spectrum from sz: 1 / spectrum over n^2 (one division for the
   // inverse transform's missing 1/n, one for sz's), floored at 1e-6 of the largest value. The
   // periodic mean mode (sz = 0) gets the largest value, that of its lowest-q neighbours: a
@@ -267,7 +305,7 @@ struct Engine {
 struct HalfSpace::Fft {
   std::variant<std::unique_ptr<Engine<double>>, std::unique_ptr<Engine<float>>> engine;
   // Double spectra of the kernel build, dropped once the engine holds its own copies.
-  std::vector<double> sz, sxx, syy, sxy;
+  std::vector<double> sz, sxx, syy, sxy, szx, szy;
 
   Engine<double>& builder() { return *std::get<0>(engine); }
   template <class F>
@@ -276,7 +314,8 @@ struct HalfSpace::Fft {
   }
 
   // Spectrum of a real even kernel stored row-major in k (n0*n1): its real part, divided by n.
-  std::vector<double> spectrum_of(const double* k) {
+  // part = 1: the imaginary part, the spectrum of the odd part of the kernel (cross kernels).
+  std::vector<double> spectrum_of(const double* k, int part = 0) {
     Engine<double>& E = builder();
     const std::size_t nr = std::size_t(E.n0) * E.n1;
     std::copy_n(k, nr, E.rin.get());
@@ -284,7 +323,7 @@ struct HalfSpace::Fft {
     std::fill(E.rin.get(), E.rin.get() + nr, 0.0);
     std::vector<double> s(std::size_t(E.n0) * E.nc);
     const double inv_n = 1.0 / (double(E.n0) * E.n1);
-    for (std::size_t i = 0; i < s.size(); ++i) s[i] = E.c1[i][0] * inv_n;
+    for (std::size_t i = 0; i < s.size(); ++i) s[i] = E.c1[i][part] * inv_n;
     return s;
   }
 };
@@ -303,13 +342,14 @@ HalfSpace::HalfSpace(const Grid& grid, const Material& material, Coupling coupli
   fft_ = std::make_unique<Fft>();
   fft_->engine = std::make_unique<Engine<double>>(n0, n1, build);
   ratio_ = material.E_star() / material.G_star();
+  if (coupling == Coupling::coupled) cross_ = material.cross_compliance();
   if (grid.periodic)
     build_periodic_kernels(material);
   else
     build_free_kernels(material);
   Fft& F = *fft_;
   max_eig_ = *std::max_element(F.sz.begin(), F.sz.end()) * double(n0) * n1;
-  const bool cer = coupling_ == Coupling::cerruti;
+  const bool cer = coupling_ != Coupling::analogy;
   auto install = [&](auto& E) {
     using Real = typename std::remove_reference_t<decltype(E)>::Api::Real;
     E.sz = make_spectrum<Real>(F.sz, spectrum_scale<Real>({&F.sz}));
@@ -318,6 +358,11 @@ HalfSpace::HalfSpace(const Grid& grid, const Material& material, Coupling coupli
       E.sxx = make_spectrum<Real>(F.sxx, sc);
       E.syy = make_spectrum<Real>(F.syy, sc);
       E.sxy = make_spectrum<Real>(F.sxy, sc);
+    }
+    if (cross_ != 0.0) {
+      const double sc = spectrum_scale<Real>({&F.szx, &F.szy});
+      E.szx = make_spectrum<Real>(F.szx, sc);
+      E.szy = make_spectrum<Real>(F.szy, sc);
     }
   };
   if (single) {
@@ -328,8 +373,7 @@ HalfSpace::HalfSpace(const Grid& grid, const Material& material, Coupling coupli
   } else {
     install(F.builder());
   }
-  F.sz = {}, F.sxx = {}, F.syy = {}, F.sxy = {};
-  F.sz.shrink_to_fit(), F.sxx.shrink_to_fit(), F.syy.shrink_to_fit(), F.sxy.shrink_to_fit();
+  for (auto* v : {&F.sz, &F.sxx, &F.syy, &F.sxy, &F.szx, &F.szy}) *v = {}, v->shrink_to_fit();
 }
 
 HalfSpace::~HalfSpace() = default;
@@ -354,11 +398,12 @@ void HalfSpace::build_free_kernels(const Material& m) {
   const Engine<double>& E = F.builder();
   const double h = grid_.h, a = 0.5 * h;
   const double cz = 1.0 / (std::numbers::pi * m.E_star());
-  const bool cer = coupling_ == Coupling::cerruti;
+  const bool cer = coupling_ != Coupling::analogy, cross = cross_ != 0.0;
   const double ca = m.cerruti_a(), cb = m.cerruti_b();
   const std::size_t nr = std::size_t(E.n0) * E.n1;
   kz_space_.resize(E.n1, E.n0);
   std::vector<double> kxx(cer ? nr : 0), kyy(cer ? nr : 0), kxy(cer ? nr : 0);
+  std::vector<double> kzx(cross ? nr : 0), kzy(cross ? nr : 0);
   for (int m0 = 0; m0 < E.n0; ++m0) {
     const int dy = m0 <= grid_.ny ? m0 : m0 - E.n0;
     for (int m1 = 0; m1 < E.n1; ++m1) {
@@ -372,6 +417,11 @@ void HalfSpace::build_free_kernels(const Material& m) {
         kyy[k] = ca * i1 + cb * love::Iyy(x, y, a, a);
         kxy[k] = cb * love::Ixy(x, y, a, a);
       }
+      if (cross) {
+        const std::size_t k = std::size_t(m0) * E.n1 + m1;
+        kzx[k] = cross_ * love::Jx(x, y, a, a);
+        kzy[k] = cross_ * love::Jy(x, y, a, a);
+      }
     }
   }
   self_ = kz_space_(0, 0);
@@ -380,6 +430,10 @@ void HalfSpace::build_free_kernels(const Material& m) {
     F.sxx = F.spectrum_of(kxx.data());
     F.syy = F.spectrum_of(kyy.data());
     F.sxy = F.spectrum_of(kxy.data());
+  }
+  if (cross) {
+    F.szx = F.spectrum_of(kzx.data(), 1);
+    F.szy = F.spectrum_of(kzy.data(), 1);
   }
 }
 
@@ -392,19 +446,20 @@ void HalfSpace::build_periodic_kernels(const Material& m) {
   Engine<double>& E = F.builder();
   const double h = grid_.h, pi = std::numbers::pi;
   const double Lx = grid_.length_x(), Ly = grid_.length_y();
-  const bool cer = coupling_ == Coupling::cerruti;
+  const bool cer = coupling_ != Coupling::analogy, cross = cross_ != 0.0;
   const double ca = m.cerruti_a(), cb = m.cerruti_b(), es = m.E_star();
   const std::size_t ns = std::size_t(E.n0) * E.nc;
   const double inv_n = 1.0 / (double(E.n0) * E.n1);
   F.sz.assign(ns, 0.0);
   if (cer) F.sxx.assign(ns, 0.0), F.syy.assign(ns, 0.0), F.sxy.assign(ns, 0.0);
+  if (cross) F.szx.assign(ns, 0.0), F.szy.assign(ns, 0.0);
   constexpr int K = 8;
   for (int m0 = 0; m0 < E.n0; ++m0) {
     const double qy0 = 2 * pi * (m0 <= E.n0 / 2 ? m0 : m0 - E.n0) / Ly;
     for (int m1 = 0; m1 < E.nc; ++m1) {
       const double qx0 = 2 * pi * m1 / Lx;
       if (m0 == 0 && m1 == 0) continue;
-      double sz = 0, sxx = 0, syy = 0, sxy = 0;
+      double sz = 0, sxx = 0, syy = 0, sxy = 0, szx = 0, szy = 0;
       for (int kx = -K; kx <= K; ++kx) {
         const double qx = qx0 + 2 * pi * kx / h, wx = std::abs(kx) == K ? 0.5 : 1.0;
         for (int ky = -K; ky <= K; ++ky) {
@@ -419,11 +474,18 @@ void HalfSpace::build_periodic_kernels(const Material& m) {
             syy += w * 2 * pi * (ca / q + cb * qx * qx / q3);
             sxy += w * (-2 * pi * cb * qx * qy / q3);
           }
+          // Fourier transform of x/r^2 = grad(ln r)_x: i q_x (-2 pi / q^2); imaginary part.
+          if (cross)
+            szx += w * (-2 * pi * cross_ * qx / (q * q)),
+                szy += w * (-2 * pi * cross_ * qy / (q * q));
         }
       }
       const std::size_t k = std::size_t(m0) * E.nc + m1;
       F.sz[k] = sz * inv_n;
       if (cer) F.sxx[k] = sxx * inv_n, F.syy[k] = syy * inv_n, F.sxy[k] = sxy * inv_n;
+      // A real odd kernel has a real (here: zero) spectrum on the Nyquist modes of even sides.
+      const bool nyquist = (E.n1 % 2 == 0 && m1 == E.n1 / 2) || (E.n0 % 2 == 0 && m0 == E.n0 / 2);
+      if (cross && !nyquist) F.szx[k] = szx * inv_n, F.szy[k] = szy * inv_n;
     }
   }
   // Real-space kernel (for sparse updates): inverse transform of the spectrum.
@@ -459,6 +521,19 @@ void HalfSpace::tangential(const Field& tx, const Field& ty, Field& ux, Field& u
     return;
   }
   fft_->visit([&](auto& E) { E.convolve_pair(tx, ty, ux, uy, grid_.nx, grid_.ny); });
+  convolutions_ += 2;
+}
+
+void HalfSpace::normal_of_traction(const Field& tx, const Field& ty, Field& uz) {
+  if (!cross_coupled()) throw std::logic_error("normal_of_traction: no normal-tangential coupling");
+  fft_->visit([&](auto& E) { E.convolve_cross_normal(tx, ty, uz, grid_.nx, grid_.ny); });
+  convolutions_ += 2;  // three transforms: counted as the Cerruti pair's four, rounded up
+}
+
+void HalfSpace::tangential_of_pressure(const Field& p, Field& ux, Field& uy) {
+  if (!cross_coupled())
+    throw std::logic_error("tangential_of_pressure: no normal-tangential coupling");
+  fft_->visit([&](auto& E) { E.convolve_cross_tangential(p, ux, uy, grid_.nx, grid_.ny); });
   convolutions_ += 2;
 }
 

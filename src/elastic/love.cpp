@@ -18,6 +18,15 @@ double corner_sum(F f, double x, double y, double a, double b) {
   return f(x + a, y + b) - f(x + a, y - b) - f(x - a, y + b) + f(x - a, y - b);
 }
 
+// X atan(Y/X) + (Y/2) ln(X^2 + Y^2): d2/dXdY of it is X / (X^2 + Y^2). Both terms vanish
+// continuously on X = 0 and at the origin (|X atan| <= pi |X| / 2, Y ln Y -> 0).
+double xatan_ylog(double X, double Y) {
+  const double r2 = X * X + Y * Y;
+  const double a = X == 0.0 ? 0.0 : X * std::atan(Y / X);
+  const double b = Y == 0.0 ? 0.0 : 0.5 * Y * std::log(r2);
+  return a + b;
+}
+
 }  // namespace
 
 double I1(double x, double y, double a, double b) {
@@ -34,6 +43,14 @@ double Iyy(double x, double y, double a, double b) {
 
 double Ixy(double x, double y, double a, double b) {
   return corner_sum([](double X, double Y) { return -std::hypot(X, Y); }, x, y, a, b);
+}
+
+double Jx(double x, double y, double a, double b) {
+  return corner_sum([](double X, double Y) { return xatan_ylog(X, Y); }, x, y, a, b);
+}
+
+double Jy(double x, double y, double a, double b) {
+  return Jx(y, x, b, a);
 }
 
 }  // namespace fretbem::love

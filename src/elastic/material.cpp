@@ -39,4 +39,14 @@ double Material::cerruti_b() const {
   return b;
 }
 
+double Material::cross_compliance() const {
+  const double pi = std::numbers::pi;
+  auto part = [pi](const Body& b) { return (1.0 - 2.0 * b.nu) / (4.0 * pi * b.G()); };
+  return body2 ? part(body1) - part(*body2) : part(body1);
+}
+
+double Material::dundurs_beta() const {
+  return std::numbers::pi * E_star() * cross_compliance();
+}
+
 }  // namespace fretbem

@@ -52,6 +52,10 @@ std::vector<std::pair<std::string, std::string>> ignored_keys(const Scenario& sc
     unused("surface.dataset", "surface.type is not file");
   }
   if (sc.wear.law != WearLaw::none) unused("load.cycles", "wear runs ignore load.cycles");
+  if (sc.solver.coupling != Coupling::coupled) {
+    unused("solver.coupling_tolerance", "solver.coupling is not coupled");
+    unused("solver.coupling_iterations", "solver.coupling is not coupled");
+  }
   return out;
 }
 
@@ -72,6 +76,10 @@ std::string check_report(const Model& m) {
   std::ostringstream o;
   o << "  E* = " << num(s.E_star) << " Pa, G* = " << num(s.G_star)
     << " Pa, mu = " << num(sc.material.mu) << "\n";
+  o << "  Dundurs beta = " << num(sc.material.dundurs_beta())
+    << (sc.solver.coupling == Coupling::coupled
+            ? " (normal-tangential coupling solved)\n"
+            : " (normal-tangential coupling neglected; solver.coupling = coupled solves it)\n");
   o << "  cell h = " << num(sc.grid.h) << " m, domain " << num(sc.grid.h * sc.grid.nx) << " x "
     << num(sc.grid.h * sc.grid.ny) << " m" << (sc.grid.periodic ? " (periodic)" : "") << "\n";
   if (s.hertz_a > 0.0)

@@ -71,7 +71,7 @@ Field make_surface(const Scenario& sc) {
 // spectra are needed, plus 64 MiB for the program.
 double estimated_peak_bytes(const Scenario& sc) {
   const double cells = double(sc.grid.nx) * double(sc.grid.ny);
-  const bool two = sc.solver.coupling == Coupling::cerruti || sc.load.direction != 0.0 ||
+  const bool two = sc.solver.coupling != Coupling::analogy || sc.load.direction != 0.0 ||
                    sc.load.path == PathType::table;
   return (two ? 900.0 : 600.0) * cells + 64.0 * (1 << 20);
 }

@@ -30,7 +30,9 @@ const std::vector<std::string>& StepRecord::columns() {
                                           "stuck_at_bound_area",
                                           "slip_ring_cells",
                                           "contact_nodes",
-                                          "edge_load_share"};
+                                          "edge_load_share",
+                                          "coupling_iterations",
+                                          "coupling_residual"};
   return c;
 }
 
@@ -60,7 +62,9 @@ std::vector<double> StepRecord::values() const {
           stuck_at_bound_area,
           slip_ring_cells,
           double(contact_nodes),
-          edge_load_share};
+          edge_load_share,
+          double(coupling_iterations),
+          coupling_residual};
 }
 
 StepRecord StepRecord::from_values(const std::vector<double>& v) {
@@ -76,6 +80,7 @@ StepRecord StepRecord::from_values(const std::vector<double>& v) {
   if (v.size() > 22) r.stuck_at_bound_area = v[22];
   if (v.size() > 25)
     r.slip_ring_cells = v[23], r.contact_nodes = long(v[24]), r.edge_load_share = v[25];
+  if (v.size() > 27) r.coupling_iterations = int(v[26]), r.coupling_residual = v[27];
   return r;
 }
 

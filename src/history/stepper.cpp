@@ -35,6 +35,7 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m) {
   last_target_ = m.last_target;
   dissipation_ = m.dissipation;
   wear_volume_ = m.wear_volume;
+  pressure_slip_.clear();
 }
 
 StepRecord Stepper::advance(std::size_t k) {
@@ -57,14 +58,18 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
   rec.time = ls.time;
   rec.cycle = ls.cycle;
   rec.turning = ls.turning;
-  bool bound_changed = normal_step(ls, rec);
-  bound_moved_ = bound_changed;
-  if (!bound_changed && k > 0 && model_.friction->evolves()) bound_changed = friction_step();
   bool incremented = false;
-  if (k > 0 && shortcut_applies(k))
-    shortcut_step(ls, rec), incremented = true;
-  else if (k > 0)
-    incremented = tangential_step(ls, bound_changed, rec);
+  if (hs.cross_coupled()) {
+    incremented = coupled_step(ls, rec);
+  } else {
+    bool bound_changed = normal_step(ls, rec);
+    bound_moved_ = bound_changed;
+    if (!bound_changed && k > 0 && model_.friction->evolves()) bound_changed = friction_step();
+    if (k > 0 && shortcut_applies(k))
+      shortcut_step(ls, rec), incremented = true;
+    else if (k > 0)
+      incremented = tangential_step(ls, bound_changed, rec);
+  }
   // No increment (the initial loading, an unchanged load): nothing slips in this step.
   if (!incremented) state_.classify(bound_, model_.scenario.solver.tolerance, Field(), 0.0);
   rec.Fz = state_.normal_force;
@@ -99,23 +104,30 @@ void Stepper::fail(const StepRecord& rec, const SolverError& e, FailedSolve f) c
 // the Coulomb bound mu p changed.
 bool Stepper::normal_step(const LoadStep& ls, StepRecord& rec) {
   if (last_normal_ && *last_normal_ == ls.normal && !surface_changed_) return false;
+  solve_normal(ls, model_.surface, rec);
+  return true;
+}
+
+// The normal solve against the gap of height z (the surface, or under Coupling::coupled the
+// surface less the normal displacement of the tractions); updates the pressure, F_z, delta and
+// the bound.
+void Stepper::solve_normal(const LoadStep& ls, const Field& z, StepRecord& rec) {
   NormalSolver& ns = *model_.normal;
   // The solver measures delta from first touch at max(z); a worn surface's highest point may
   // lie below the original one, so delta is converted to the unworn surface's datum (its
   // growth under constant normal force is the wear's signature).
-  const double datum = model_.surface0.maxCoeff() - model_.surface.maxCoeff();
+  const double datum = model_.surface0.maxCoeff() - z.maxCoeff();
   const Field start = state_.pressure;
   NormalResult r;
   try {
-    r = ls.normal.force_control
-            ? ns.solve_force(model_.surface, ls.normal.value, state_.pressure)
-            : ns.solve_indentation(model_.surface, ls.normal.value - datum, state_.pressure);
+    r = ls.normal.force_control ? ns.solve_force(z, ls.normal.value, state_.pressure)
+                                : ns.solve_indentation(z, ls.normal.value - datum, state_.pressure);
   } catch (const SolverError& e) {
     FailedSolve f;
     f.solve = "normal";
     f.control = ls.normal.force_control ? "force" : "indentation";
     f.target = Eigen::VectorXd::Constant(1, ls.normal.value - (f.control == "force" ? 0 : datum));
-    f.surface = model_.surface, f.pressure_start = start;
+    f.surface = z, f.pressure_start = start;
     fail(rec, e, std::move(f));
   }
   last_normal_ = ls.normal;
@@ -128,7 +140,6 @@ bool Stepper::normal_step(const LoadStep& ls, StepRecord& rec) {
                      "step " + std::to_string(rec.step));
   rec.normal_iterations = r.iterations;
   rec.normal_residual = r.residual;
-  return true;
 }
 
 // A friction law that evolves moves the bound between steps (never within one: the increment
@@ -152,14 +163,7 @@ bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
   inc.tau0 = &tau0;
   inc.u0 = &u0;
   inc.guess = guess_;
-  if (ls.control == Control::displacement) {
-    inc.control = TangentialControl::displacement;
-    inc.target = op.to_local(ls.target - state_.shift);
-  } else {
-    inc.control = TangentialControl::force;
-    const double scale = ls.relative ? model_.scenario.material.mu * state_.normal_force : 1.0;
-    inc.target = op.to_local(ls.target * scale);
-  }
+  set_target(ls, inc);
   const bool same_load = last_target_.size() == inc.target.size() &&
                          (inc.control == TangentialControl::force ? last_target_ == inc.target
                                                                   : inc.target.isZero(0.0));
@@ -181,6 +185,20 @@ bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
   state_.shift += op.to_global(r.shift);
   accumulate_slip(u0, &tau0, r.shift, rec);
   return true;
+}
+
+// The increment's control and target in the operator's components: the shift increment from
+// the current shift, or the force (relative targets in units of mu F_z of the current state).
+void Stepper::set_target(const LoadStep& ls, TangentialIncrement& inc) const {
+  const TangentialOperator& op = *model_.tangential_operator;
+  if (ls.control == Control::displacement) {
+    inc.control = TangentialControl::displacement;
+    inc.target = op.to_local(ls.target - state_.shift);
+  } else {
+    inc.control = TangentialControl::force;
+    const double scale = ls.relative ? model_.scenario.material.mu * state_.normal_force : 1.0;
+    inc.target = op.to_local(ls.target * scale);
+  }
 }
 
 // solver.monotone = shortcut: steps on the virgin monotone segment that starts at step 0, at

@@ -103,7 +103,13 @@ void write_solver(IniWriter& w, const SolverSpec& s) {
   w.section("solver");
   w.put("tolerance", s.tolerance);
   w.put("max_iterations", s.max_iterations);
-  w.put("coupling", std::string(s.coupling == Coupling::analogy ? "analogy" : "cerruti"));
+  static const char* const couplings[] = {"analogy", "cerruti", "coupled"};
+  w.put("coupling", std::string(couplings[int(s.coupling)]));
+  // Only coupled runs name these: resolved texts (and checkpoints) of other runs stay as before.
+  if (s.coupling == Coupling::coupled) {
+    w.put("coupling_tolerance", s.coupling_tolerance);
+    w.put("coupling_iterations", s.coupling_iterations);
+  }
   w.put("threads", s.threads);
   w.put("algorithm",
         std::string(s.algorithm == TangentialAlgorithm::projected ? "projected" : "partition"));

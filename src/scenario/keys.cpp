@@ -50,6 +50,8 @@ const std::vector<std::string> kKeys = {
     "solver.tolerance",
     "solver.max_iterations",
     "solver.coupling",
+    "solver.coupling_tolerance",
+    "solver.coupling_iterations",
     "solver.threads",
     "solver.algorithm",
     "solver.stiffness",

@@ -239,7 +239,12 @@ void read_solver(const Reader& r, SolverSpec& s) {
   if (r.has("solver.max_iterations"))
     s.max_iterations = static_cast<int>(r.integer("solver.max_iterations", 1, 1 << 30));
   if (r.has("solver.coupling"))
-    s.coupling = static_cast<Coupling>(r.choice("solver.coupling", {"analogy", "cerruti"}));
+    s.coupling =
+        static_cast<Coupling>(r.choice("solver.coupling", {"analogy", "cerruti", "coupled"}));
+  if (r.has("solver.coupling_tolerance"))
+    s.coupling_tolerance = r.real_in("solver.coupling_tolerance", 0.0, true, 1e-1, false);
+  if (r.has("solver.coupling_iterations"))
+    s.coupling_iterations = static_cast<int>(r.integer("solver.coupling_iterations", 1, 100000));
   if (r.has("solver.threads")) s.threads = static_cast<int>(r.integer("solver.threads", 0, 4096));
   if (r.has("solver.algorithm"))
     s.algorithm =

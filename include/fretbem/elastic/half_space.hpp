@@ -16,7 +16,10 @@ namespace fretbem {
 /// How tangential tractions load the surface.
 enum class Coupling {
   analogy,  ///< Cattaneo–Mindlin analogy: u_t = (E*/G*) K_z * tau, componentwise (default)
-  cerruti   ///< full Cerruti cell coefficients, with the x-y cross terms
+  cerruti,  ///< full Cerruti cell coefficients, with the x-y cross terms
+  /// Cerruti, plus the normal-tangential (Dundurs beta) cross terms between pressure and
+  /// traction: normal_of_traction / tangential_of_pressure (issue 17 §5)
+  coupled
 };
 
 /// Arithmetic of the FFT convolutions. Fields, kernels (built in double) and sparse updates
@@ -63,6 +66,20 @@ class HalfSpace {
   /// Tangential displacements (ux, uy) of tractions (tx, ty) with the selected coupling.
   void tangential(const Field& tx, const Field& ty, Field& ux, Field& uy);
 
+  /// Coupling::coupled with beta != 0: the cross terms are in use. False for every other
+  /// coupling and for beta = 0 (identical bodies), where coupled is Cerruti exactly.
+  bool cross_coupled() const { return cross_ != 0.0; }
+  /// Cross compliance c = beta / (pi E*) (1/Pa) of the material (Material::cross_compliance).
+  double cross_compliance() const { return cross_; }
+  /// Change of the normal approach of the two surfaces (m) caused by tractions (tx, ty) (Pa)
+  /// on body 1: u_z = c sum_j (tx_j Jx + ty_j Jy)(x_i - x_j), Jx, Jy the cell integrals of
+  /// x/r^2, y/r^2 (love.hpp). Three transforms. Requires cross_coupled().
+  void normal_of_traction(const Field& tx, const Field& ty, Field& uz);
+  /// Relative tangential displacement (ux, uy) (m) caused by pressure p (Pa):
+  /// u = -c sum_j p_j (Jx, Jy)(x_i - x_j). The transpose of normal_of_traction (reciprocity:
+  /// the coupled operator is symmetric). Three transforms. Requires cross_coupled().
+  void tangential_of_pressure(const Field& p, Field& ux, Field& uy);
+
   /// Fourier preconditioner z = K_z^-1 * r: division by the (padded) kernel spectrum, one
   /// convolution's cost (Vollebregt, J. Comput. Phys. 257, 2014; Bazrafshan et al. 2017).
   /// The spectrum is floored at 1e-6 of its largest value; the periodic mean mode (zero in the
@@ -108,6 +125,7 @@ class HalfSpace {
   double self_ = 0.0;
   double max_eig_ = 0.0;
   double ratio_ = 1.0;
+  double cross_ = 0.0;  ///< cross compliance c (1/Pa); 0 unless coupled with beta != 0
   std::int64_t convolutions_ = 0;
 };
 

@@ -14,5 +14,11 @@ double Ixx(double x, double y, double a, double b);
 double Iyy(double x, double y, double a, double b);
 /// Integral of x y/r^3 over the same cell (antiderivative -r).
 double Ixy(double x, double y, double a, double b);
+/// Integral of x/r^2 over the same cell (units of length): the Boussinesq–Cerruti cross term
+/// (normal-tangential coupling, Johnson eqs. 3.19a, 3.86c). Antiderivative
+/// X atan(Y/X) + (Y/2) ln(X^2 + Y^2); odd in x, even in y.
+double Jx(double x, double y, double a, double b);
+/// Integral of y/r^2 over the same cell: Jx with the axes exchanged.
+double Jy(double x, double y, double a, double b);
 
 }  // namespace fretbem::love

@@ -28,6 +28,17 @@ struct Material {
   /// u_x = Q [a / r + b x^2 / r^3], u_y = Q b x y / r^3 (Johnson, Contact Mechanics, eq. 3.86a).
   double cerruti_a() const;
   double cerruti_b() const;
+  /// Normal-tangential cross compliance of the pair (1/Pa), body 1 minus body 2:
+  /// c = (1-2 nu1)/(4 pi G1) - (1-2 nu2)/(4 pi G2). A compressive point force P moves the
+  /// surfaces relative to each other by -c P r/r^2 (Boussinesq, Johnson eq. 3.19a: each surface
+  /// is drawn towards the load); a tangential point force Q on body 1 (-Q on body 2) changes the
+  /// normal approach by c Q.r/r^2 (Cerruti, eq. 3.86c, by reciprocity). Exactly 0 for identical
+  /// bodies; c = beta / (pi E*).
+  double cross_compliance() const;
+  /// Dundurs' second constant, beta = pi E* c (Johnson eq. 5.4 with body 1 the half-space):
+  /// (1-2 nu)/(2 (1-nu)) for a rigid indenter, 0 for identical or incompressible bodies;
+  /// exchanging the bodies flips its sign.
+  double dundurs_beta() const;
 };
 
 }  // namespace fretbem

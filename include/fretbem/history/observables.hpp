@@ -27,6 +27,10 @@ struct StepRecord {
   double slip_ring_cells = 0;  ///< width of the slip zone in cells (resolution.hpp)
   long contact_nodes = 0;      ///< nodes in contact
   double edge_load_share = 0;  ///< share of F_z on the outermost cells (0 on periodic grids)
+  /// solver.coupling = coupled (beta != 0): normal/tangential alternations this step, and the
+  /// larger relative change of pressure or traction in the last one; 0 otherwise.
+  int coupling_iterations = 0;
+  double coupling_residual = 0;
 
   /// Column names, in the order of values(); the first 18 are the DESIGN §4 contract.
   static const std::vector<std::string>& columns();

@@ -61,6 +61,11 @@ class Stepper {
 
  private:
   bool normal_step(const LoadStep& ls, StepRecord& rec);
+  void solve_normal(const LoadStep& ls, const Field& z, StepRecord& rec);
+  void set_target(const LoadStep& ls, TangentialIncrement& inc) const;
+  bool coupled_step(const LoadStep& ls, StepRecord& rec);
+  TangentialResult coupled_tangential(const LoadStep& ls, const VecField& tau0, const VecField& u0,
+                                      StepRecord& rec);
   bool friction_step();
   bool tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec);
   bool shortcut_applies(std::size_t k) const;
@@ -87,6 +92,9 @@ class Stepper {
   double wear_cycle_ = -1.0;         // < 0: not a wear run
   CyclePredictor predictor_;         ///< solver.predictor = cycle
   const VecField* guess_ = nullptr;  ///< the predictor of the step being advanced
+  /// Coupling::coupled: tangential displacement (m) of the pressure at the end of the last
+  /// step (the start of this one); empty until first needed (and after a restore).
+  VecField pressure_slip_;
 };
 
 }  // namespace fretbem

@@ -62,6 +62,12 @@ struct SolverSpec {
   double tolerance = 1e-8;
   int max_iterations = 5000;
   Coupling coupling = Coupling::analogy;
+  /// coupled: the normal and tangential solves of a step alternate until the rms change of
+  /// the pressure (relative to its rms) and of the traction (relative to the rms bound mu p)
+  /// from one alternation to the next are both at most coupling_tolerance, in at most
+  /// coupling_iterations alternations (else the step fails, naming it).
+  double coupling_tolerance = 1e-6;
+  int coupling_iterations = 50;
   int threads = 0;  ///< 0: all cores
   TangentialAlgorithm algorithm = TangentialAlgorithm::projected;
   StiffnessMode stiffness = StiffnessMode::every;  ///< which steps compute kx

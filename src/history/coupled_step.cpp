@@ -1,0 +1,119 @@
+// Stepper::coupled_step: one load step with the normal-tangential coupling of dissimilar bodies
+// (solver.coupling = coupled, Dundurs beta != 0; issue 17 §5). Tractions change the normal
+// approach (Cerruti) and the pressure moves the surfaces tangentially (Boussinesq), so the
+// normal and tangential problems of a step are solved alternately, each with the other's
+// latest solution frozen (block Gauss-Seidel, as CONTACT's Panagiotopoulos process; Kalker,
+// Three-dimensional elastic bodies in rolling contact, 1990, §5.2), until neither changes.
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "fretbem/history/stepper.hpp"
+
+namespace fretbem {
+
+namespace {
+
+// |a - b| / |scale| in the L2 norm over the grid (0 when nothing changed, inf for a change
+// against a zero scale).
+double relative_change(const VecField& a, const VecField& b, const Field& scale) {
+  double d2 = 0.0;
+  for (std::size_t c = 0; c < a.size(); ++c) d2 += (a[c] - b[c]).square().sum();
+  const double s2 = scale.square().sum();
+  if (d2 == 0.0) return 0.0;
+  return s2 > 0.0 ? std::sqrt(d2 / s2) : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+// Alternation m: normal solve against the gap z - u_z(tau^{m-1}) (the approach the current
+// tractions produce), bound mu p^m; tangential increment from the step's start (tau0, u0) with
+// the slip s = dU - (C tau - C tau0) - (w(p^m) - w(p0)), w the tangential displacement of the
+// pressure, entered as a shifted u0 (the increment's QP is unchanged: the pressure's share is
+// a known displacement field within it). Stops when the relative changes of p and tau from the
+// previous alternation are both <= solver.coupling_tolerance; the state at the start of a step
+// was converged, so an unchanged first alternation ends the step.
+bool Stepper::coupled_step(const LoadStep& ls, StepRecord& rec) {
+  HalfSpace& hs = *model_.half_space;
+  const SolverSpec& sv = model_.scenario.solver;
+  TangentialIncrement probe;
+  set_target(ls, probe);
+  const bool same_normal = last_normal_ && *last_normal_ == ls.normal && !surface_changed_;
+  const bool same_tangential =
+      last_target_.size() == probe.target.size() &&
+      (probe.control == TangentialControl::force ? last_target_ == probe.target
+                                                 : probe.target.isZero(0.0));
+  if (same_normal && same_tangential && !model_.friction->evolves()) return false;
+  if (pressure_slip_.size() != 2) {
+    pressure_slip_.assign(2, Field());
+    hs.tangential_of_pressure(state_.pressure, pressure_slip_[0], pressure_slip_[1]);
+  }
+  const VecField tau0 = state_.traction, u0 = state_.displacement;
+  const Field bound0 = bound_;
+  VecField w(2), u0w(2);
+  Field uz;
+  TangentialResult r;
+  int normal_iterations = 0, tangential_iterations = 0;
+  for (int it = 1;; ++it) {
+    const Field p_prev = state_.pressure;
+    const VecField tau_prev = state_.traction;
+    hs.normal_of_traction(state_.traction[0], state_.traction[1], uz);
+    solve_normal(ls, model_.surface - uz, rec);
+    normal_iterations += rec.normal_iterations;
+    hs.tangential_of_pressure(state_.pressure, w[0], w[1]);
+    for (int c = 0; c < 2; ++c) u0w[c] = u0[c] - (w[c] - pressure_slip_[c]);
+    r = coupled_tangential(ls, tau0, u0w, rec);
+    tangential_iterations += r.iterations;
+    const double dp = relative_change({state_.pressure}, {p_prev}, state_.pressure);
+    const double dt = relative_change(state_.traction, tau_prev, bound_);
+    rec.coupling_iterations = it;
+    rec.coupling_residual = std::max(dp, dt);
+    if (rec.coupling_residual <= sv.coupling_tolerance) break;
+    if (it >= sv.coupling_iterations) {
+      std::ostringstream msg;
+      msg << "normal-tangential coupling did not converge (solver.coupling = coupled, beta = "
+          << model_.scenario.material.dundurs_beta() << "): after " << it
+          << " alternations the pressure still changed by " << dp << " and the traction by " << dt
+          << " (relative) > solver.coupling_tolerance = " << sv.coupling_tolerance
+          << "; raise solver.coupling_iterations or the tolerance";
+      FailedSolve f;
+      f.solve = "coupling";
+      f.surface = model_.surface, f.pressure_start = state_.pressure, f.bound = bound_;
+      f.tau0 = tau0, f.u0 = u0;
+      fail(rec, SolverError(msg.str()), std::move(f));
+    }
+  }
+  pressure_slip_ = w;
+  set_target(ls, probe);  // relative force targets follow the converged F_z
+  last_target_ = probe.target;
+  bound_start_ = bound0;
+  bound_moved_ = bound0.size() == bound_.size() && !(bound0 == bound_).all();
+  rec.normal_iterations = normal_iterations;
+  rec.tangential_iterations = tangential_iterations;
+  rec.tangential_residual = r.residual;
+  state_.shift += model_.tangential_operator->to_global(r.shift);
+  accumulate_slip(u0w, &tau0, r.shift, rec);
+  return true;
+}
+
+// One tangential increment of an alternation, warm-started from the last one's traction; a
+// failure names the step as tangential_step's do.
+TangentialResult Stepper::coupled_tangential(const LoadStep& ls, const VecField& tau0,
+                                             const VecField& u0, StepRecord& rec) {
+  TangentialIncrement inc;
+  inc.bound = &bound_;
+  inc.tau0 = &tau0;
+  inc.u0 = &u0;
+  set_target(ls, inc);
+  try {
+    return model_.tangential->solve(inc, state_.traction, state_.displacement);
+  } catch (const SolverError& e) {
+    FailedSolve f;
+    f.solve = "tangential";
+    f.control = inc.control == TangentialControl::force ? "force" : "displacement";
+    f.target = inc.target, f.bound = bound_, f.tau0 = tau0, f.u0 = u0;
+    fail(rec, e, std::move(f));
+  }
+}
+
+}  // namespace fretbem
