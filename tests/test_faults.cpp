@@ -2,9 +2,11 @@
 // outputs that do not belong to the checkpoint, a second run into the same --out, and
 // determinism of timeseries.csv. After each fault the last good checkpoint is intact and
 // --resume gives the uninterrupted run's rows (docs/reliability.md, "Fault tests").
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -128,6 +130,13 @@ void replace_dataset(const fs::path& file, const std::string& name, const std::v
   ASSERT_GE(H5Fclose(f), 0);
 }
 
+void delete_link(const fs::path& file, const std::string& name) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  ASSERT_GE(H5Ldelete(f, name.c_str(), H5P_DEFAULT), 0);
+  ASSERT_GE(H5Fclose(f), 0);
+}
+
 std::vector<double> read_vector(const fs::path& file, const std::string& name) {
   const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   const hid_t d = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
@@ -187,15 +196,48 @@ TEST_F(Faults, KillAtRandomPointsResumes) {
     waitpid(pid, &status, 0);
     ASSERT_TRUE(fs::exists(part / "checkpoint.h5")) << "kill after " << at << " rows";
     const Result r = run("run --resume " + out + " --quiet", dir_);
-    // A kill inside an HDF5 flush can leave result.h5 unreadable; resume must then refuse in one
-    // line naming it (docs/reliability.md, "What is still unprotected"), never append blindly.
+    // A kill inside an HDF5 flush can leave result.h5 unopenable (then rebuilt: test below) or
+    // openable with a stale /timeseries; the latter is refused in one line naming it
+    // (docs/reliability.md, "What is still unprotected"), never appended to blindly.
     if (r.code == 2 && r.err.find("result.h5") != std::string::npos) {
       EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+      EXPECT_EQ(r.err.find("cannot open"), std::string::npos) << r.err;
       continue;
     }
     ASSERT_EQ(r.code, 0) << "kill after " << at << " rows: " << r.err;
     expect_same_rows(ref, part);
   }
+}
+
+// A result.h5 torn mid-flush (here: cut to half its bytes, which HDF5 cannot open) is rebuilt
+// on resume from timeseries.csv and the checkpoint, the damaged file kept beside; the rows are
+// the uninterrupted run's. With timeseries.csv cut as well, resume refuses naming it.
+TEST_F(Faults, TornResultFileIsRebuiltOnResume) {
+  const fs::path part = dir_ / "part", both = dir_ / "both";
+  ASSERT_EQ(run("run " + kScenario + kQuick + " --stop-after 30 --out " + part.string(), dir_).code,
+            0);
+  fs::copy(part, both);
+  fs::resize_file(part / "result.h5", fs::file_size(part / "result.h5") / 2);
+  const Result r = run("run --resume " + part.string() + " --quiet", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("rebuilt from timeseries.csv"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(part / "result.h5.damaged"));
+  const fs::path ref = full();
+  expect_same_rows(ref, part);
+  const auto rows = rows_of(ref / "timeseries.csv");
+  EXPECT_EQ(read_vector(part / "result.h5", "timeseries").size(),
+            (rows.size() - 1) * rows.front().size());
+
+  fs::resize_file(both / "result.h5", fs::file_size(both / "result.h5") / 2);
+  // The header, 5 rows and a torn sixth.
+  const std::string text = slurp(both / "timeseries.csv");
+  std::size_t cut = 0;
+  for (int i = 0; i < 6; ++i) cut = text.find('\n', cut) + 1;
+  std::ofstream(both / "timeseries.csv", std::ios::trunc) << text.substr(0, cut + 5);
+  const Result bad = run("run --resume " + both.string() + " --quiet", dir_);
+  EXPECT_EQ(bad.code, 2) << bad.err;
+  EXPECT_NE(bad.err.find("timeseries.csv"), std::string::npos) << bad.err;
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
 }
 
 // Damaged checkpoints: exit 2 naming checkpoint.h5 (and the quantity), outputs untouched.
@@ -269,8 +311,13 @@ TEST_F(Faults, CorruptedCheckpointsAreRefused) {
        [&](const fs::path& p) {
          replace_dataset(p, "last_target", {1e9, 0.0}, {2});
        }},
-      {"old format", "format_version",
-       [&](const fs::path& p) { replace_dataset(p, "format_version", {1.0}, {1}); }},
+      {"old format", "checkpoint_format",
+       [&](const fs::path& p) { replace_dataset(p, "checkpoint_format", {1.0}, {1}); }},
+      {"old format, old name", "format_version",
+       [&](const fs::path& p) {
+         delete_link(p, "checkpoint_format");
+         replace_dataset(p, "format_version", {1.0}, {1});
+       }},
   };
   for (const auto& c : cases) {
     const fs::path d = dir_ / "bad";
@@ -283,6 +330,19 @@ TEST_F(Faults, CorruptedCheckpointsAreRefused) {
     EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.name << ": " << r.err;
     EXPECT_EQ(slurp(d / "timeseries.csv"), csv) << c.name << ": outputs were touched";
   }
+}
+
+// Checkpoints written before the format dataset was renamed (dataset format_version = 2, the
+// same layout) still resume, to the uninterrupted run's rows.
+TEST_F(Faults, CheckpointWithOldFormatNameResumes) {
+  const fs::path part = dir_ / "part";
+  ASSERT_EQ(run("run " + kScenario + kQuick + " --stop-after 20 --out " + part.string(), dir_).code,
+            0);
+  delete_link(part / "checkpoint.h5", "checkpoint_format");
+  replace_dataset(part / "checkpoint.h5", "format_version", {2.0}, {1});
+  const Result r = run("run --resume " + part.string() + " --quiet", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  expect_same_rows(full(), part);
 }
 
 // Outputs that do not belong to the checkpoint are refused, not patched.
@@ -375,6 +435,32 @@ TEST_F(Faults, OutOptionsAreChecked) {
   EXPECT_NE(r.err.find("--out"), std::string::npos) << r.err;
 }
 
+// Two runs into one --out at once (issue 14 session 4: the second truncated the first's
+// timeseries.csv): while one process holds the folder's lock, a run and a resume into it are
+// refused naming the folder, and nothing in it is touched; after release both go ahead.
+TEST_F(Faults, ConcurrentRunsIntoOneOutAreRefused) {
+  const fs::path d = dir_ / "r";
+  ASSERT_EQ(
+      run("run " + kScenario + " --quiet --set grid.n=16 --stop-after 3 --out " + d.string(), dir_)
+          .code,
+      0);
+  const std::string csv = slurp(d / "timeseries.csv");
+  const int fd = ::open((d / ".fretbem.lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);  // "another run" holds the folder
+  for (const std::string& cmd :
+       {"run " + kScenario + " --quiet --set grid.n=16 --overwrite --out " + d.string(),
+        "run --resume " + d.string() + " --quiet"}) {
+    const Result r = run(cmd, dir_);
+    EXPECT_EQ(r.code, 2) << cmd << r.err;
+    EXPECT_NE(r.err.find("another fretbem run is writing"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(slurp(d / "timeseries.csv"), csv);
+  EXPECT_TRUE(fs::exists(d / "checkpoint.h5"));
+  ::close(fd);
+  EXPECT_EQ(run("run --resume " + d.string() + " --quiet", dir_).code, 0);
+}
+
 // Ensembles: a repeated Hurst exponent and an absurd bin count are refused before any member
 // runs.
 TEST_F(Faults, EnsembleRefusesDuplicateHurstAndHugeBins) {
@@ -387,6 +473,79 @@ TEST_F(Faults, EnsembleRefusesDuplicateHurstAndHugeBins) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("--bins"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "e" / "aggregate.csv"));
+}
+
+// SIGTERM to the ensemble parent (issue 14 item 10): the running member ends, no further one
+// starts, the finished ones are kept in members.csv and aggregate.csv, exit 143.
+TEST_F(Faults, EnsembleSigtermKeepsFinishedMembers) {
+  const fs::path out = dir_ / "e";
+  const std::string rough =
+      (fs::path(FRETBEM_SOURCE_DIR) / "scenarios" / "rough_monotone.ini").string();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string log = (dir_ / "ensemble.err").string();
+    if (!freopen(log.c_str(), "w", stderr)) _exit(127);
+    execl(kBin.c_str(), kBin.c_str(), "ensemble", rough.c_str(), "--hurst", "0.3,0.5,0.7",
+          "--seeds", "1", "--jobs", "1", "--quiet", "--out", out.c_str(), "--set", "grid.n=32",
+          "--set", "load.steps=400", nullptr);
+    _exit(127);
+  }
+  // Members run one at a time: the second one's directory appears when the first has ended.
+  const auto t0 = std::chrono::steady_clock::now();
+  while (!fs::exists(out / "H0.5" / "seed_001" / "log.txt") &&
+         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(120))
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status)) << "signal " << WTERMSIG(status) << slurp(dir_ / "ensemble.err");
+  EXPECT_EQ(WEXITSTATUS(status), 143) << slurp(dir_ / "ensemble.err");
+  const auto members = rows_of(out / "members.csv");
+  ASSERT_EQ(members.size(), 4u);  // header + 3
+  EXPECT_EQ(members[1][3], "0");  // finished before the signal: kept
+  EXPECT_NE(members[3][3], "0");  // never finished
+  const auto aggregate = rows_of(out / "aggregate.csv");
+  ASSERT_GT(aggregate.size(), 1u);
+  EXPECT_EQ(aggregate[1][0], "0.3");
+  EXPECT_EQ(aggregate[1][5], "1");  // one member (H = 0.3) in the aggregate
+  // No member process is left behind: the ensemble waited for the one it stopped.
+  EXPECT_NE(slurp(dir_ / "ensemble.err").find("stopped by a signal"), std::string::npos);
+}
+
+// Table runs (issue 14 item 13): `cycle` is the integer part of time, negative times too;
+// cycles.csv has a row per cycle also before time 0 (it was empty); a cycle without a
+// minimum turning point reports kx at its smallest F_x (it reported 0).
+TEST_F(Faults, TableCyclesFollowTime) {
+  const fs::path ini = dir_ / "table.ini", table = dir_ / "path.csv";
+  std::ofstream(ini) << "[material]\nE = 210e9\nnu = 0.3\nmu = 0.5\n[grid]\nn = 16\n"
+                        "length = 2.8e-4\n[surface]\ntype = sphere\nradius = 0.01\n"
+                        "[load]\npath = table\ntable = path.csv\n";
+  std::ofstream(table) << "time,Fz,Fx\n-1,10,0\n-0.75,10,2\n-0.5,10,0\n-0.25,10,-2\n0,10,0\n"
+                          "0.25,10,2\n0.5,10,0\n0.75,10,-2\n1,10,0\n";
+  ASSERT_EQ(run("run " + ini.string() + " --quiet --out " + (dir_ / "a").string(), dir_).code, 0);
+  const auto ts = rows_of(dir_ / "a" / "timeseries.csv");
+  ASSERT_EQ(ts.size(), 10u);
+  ASSERT_EQ(ts[0][2], "cycle");
+  const std::vector<std::string> cycle{"-1", "-1", "-1", "-1", "0", "0", "0", "0", "1"};
+  for (std::size_t k = 0; k < cycle.size(); ++k) EXPECT_EQ(ts[k + 1][2], cycle[k]) << k;
+  const auto cy = rows_of(dir_ / "a" / "cycles.csv");
+  ASSERT_EQ(cy.size(), 3u);
+  EXPECT_EQ(cy[1][0], "-1");
+  EXPECT_EQ(cy[1][1], "4");
+  EXPECT_EQ(cy[2][0], "0");
+
+  // Rising only: the last step is the (maximum) turning point; no minimum turning point.
+  std::ofstream(table, std::ios::trunc) << "time,Fz,Fx\n0,10,0\n0.5,10,1\n1,10,2\n";
+  ASSERT_EQ(run("run " + ini.string() + " --quiet --out " + (dir_ / "b").string(), dir_).code, 0);
+  const auto tb = rows_of(dir_ / "b" / "timeseries.csv");
+  const auto cb = rows_of(dir_ / "b" / "cycles.csv");
+  ASSERT_EQ(cb.size(), 2u);
+  const auto col = [](const std::vector<std::vector<std::string>>& t, const std::string& name) {
+    return std::size_t(std::find(t[0].begin(), t[0].end(), name) - t[0].begin());
+  };
+  EXPECT_EQ(cb[1][col(cb, "kx_at_min")], tb[2][col(tb, "kx")]);  // the step with Fx = 1
+  EXPECT_EQ(cb[1][col(cb, "kx_at_max")], tb[3][col(tb, "kx")]);  // the turning point, Fx = 2
+  EXPECT_GT(std::stod(cb[1][col(cb, "kx_at_min")]), 0.0);
 }
 
 // Step counts that pass the key ranges but cannot fit in memory are refused by `check` and

@@ -282,7 +282,8 @@ TEST(Scenario, BadNumbersNameTheKey) {
   EXPECT_HAS(with("grid.n=2.5"), "not an integer");
   EXPECT_HAS(with("grid.periodic=maybe"), "not a boolean");
   EXPECT_HAS(with("surface.type=cube"), "not one of sphere|flat|rough|file");
-  EXPECT_HAS(with("solver.tolerance=0.1"), "out of range (0, 0.01]");
+  EXPECT_HAS(with("solver.tolerance=0.1"), "out of range [1e-14, 0.01]");
+  EXPECT_HAS(with("solver.tolerance=1e-300"), "out of range [1e-14, 0.01]");
   EXPECT_HAS(with("solver.threads=-1"), "solver.threads");
   EXPECT_HAS(with("load.steps_per_cycle=3"), "must be >= 4");
   EXPECT_HAS(with("output.fields_every=-2"), "output.fields_every");

@@ -3,8 +3,10 @@
 #include <boost/program_options.hpp>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <new>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -19,7 +21,9 @@
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/failed_solve.hpp"
+#include "fretbem/io/output_lock.hpp"
 #include "fretbem/io/resolution_report.hpp"
+#include "fretbem/io/result_recovery.hpp"
 #include "fretbem/io/resume_check.hpp"
 #include "fretbem/io/run_output.hpp"
 #include "fretbem/scenario/scenario.hpp"
@@ -200,6 +204,10 @@ int resume_run(const Args& a) {
     throw InputError("run --resume DIR continues in DIR: --out is not allowed with it");
   if (a.overwrite) throw InputError("run --resume DIR: --overwrite is not allowed with it");
   const std::filesystem::path dir = a.resume;
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    throw InputError(dir.string() + ": not a folder of a run to resume");
+  const OutputLock lock(dir);
   const Checkpoint cp = load_checkpoint(dir);
   Scenario sc = parse_scenario(cp.scenario_text, (dir / "checkpoint.h5").string(), ".", {});
   set_output_dir(sc, dir);
@@ -214,6 +222,10 @@ int resume_run(const Args& a) {
   }
   if (cp.wear)
     throw InputError((dir / "checkpoint.h5").string() + ": a wear run's, but no wear.law");
+  // A result.h5 torn by a kill during a flush is rebuilt from timeseries.csv (issue 14).
+  if (result_file_torn(dir))
+    std::fprintf(stderr, "fretbem: %s\n",
+                 rebuild_result_file(dir, *model, cp.memory.next_step).c_str());
   check_resume_outputs(dir, cp.run_id, cp.memory.next_step);
   model->surface = cp.surface;
   Stepper stepper(*model);
@@ -226,6 +238,7 @@ int cmd_run(const Args& a) {
   Scenario sc = read_scenario(a);
   if (!a.out.empty()) set_output_dir(sc, a.out);
   auto model = build_model(sc);
+  const OutputLock lock(sc.output.dir);  // before the checks: no second run slips in between
   prepare_output_dir(sc.output.dir, a.overwrite);
   model->run_id = new_run_id();
   if (model->wear) {  // wear runs: their own driver and checkpoints
@@ -285,7 +298,8 @@ int cmd_surface(const Args& a) {
   return 0;
 }
 
-// Members are separate `fretbem run` processes; exit 4 when any of them failed.
+// Members are separate `fretbem run` processes; exit 4 when any of them failed, 143 when a
+// signal stopped the ensemble (members.csv and aggregate.csv written anyway).
 int cmd_ensemble(const Args& a) {
   if (a.scenario.empty()) throw InputError("ensemble: no scenario file given");
   EnsembleOptions o;
@@ -297,6 +311,7 @@ int cmd_ensemble(const Args& a) {
   o.quiet = a.quiet;
   o.overwrite = a.overwrite;
   const int failed = run_ensemble(o);
+  if (failed == kEnsembleStopped) return 143;  // as `fretbem sweep`: 128 + SIGTERM
   if (failed) std::fprintf(stderr, "fretbem ensemble: %d member(s) failed\n", failed);
   return failed ? 4 : 0;
 }
@@ -309,6 +324,19 @@ int cmd_sweep(const Args& a) {
   c.list = a.list, c.member = a.member, c.aggregate = a.aggregate;
   c.options.jobs = a.jobs, c.options.quiet = a.quiet;
   return run_sweep_command(c);
+}
+
+// "filesystem error: cannot rename: Is a directory [a] [b]" as "cannot rename a to b: Is a
+// directory" (issue 14 item 12: the library's text named neither file plainly).
+std::string describe(const std::filesystem::filesystem_error& e) {
+  std::string op = e.what();
+  const std::string prefix = "filesystem error: ";
+  if (op.rfind(prefix, 0) == 0) op = op.substr(prefix.size());
+  op = op.substr(0, op.find(": "));
+  std::string msg = op;
+  if (!e.path1().empty()) msg += " " + e.path1().string();
+  if (!e.path2().empty()) msg += " to " + e.path2().string();
+  return msg + ": " + e.code().message();
 }
 
 }  // namespace
@@ -343,6 +371,14 @@ int main(int argc, char** argv) {
   } catch (const po::error& e) {
     std::fprintf(stderr, "fretbem: error: %s\n", e.what());
     return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr,
+                 "fretbem: error: out of memory: the grid (grid.n, grid.nx x grid.ny), the load "
+                 "steps or the fields written need more memory than this machine has left\n");
+    return 1;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::fprintf(stderr, "fretbem: error: %s\n", describe(e).c_str());
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fretbem: error: %s\n", e.what());
     return 1;

@@ -2,8 +2,10 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <sstream>
@@ -65,6 +67,25 @@ void check_step_count(const LoadSpec& spec) {
 
 }  // namespace
 
+namespace {
+
+// Table times are bounded by 1e100 only: a cycle number past an int's range is clamped to it
+// rather than cast (a cast of an out-of-range double is undefined).
+int clamp_to_int(double c) {
+  constexpr double lo = std::numeric_limits<int>::min(), hi = std::numeric_limits<int>::max();
+  return int(std::clamp(c, lo, hi));
+}
+
+}  // namespace
+
+int cycle_of_time(double t) {
+  return clamp_to_int(std::floor(t + 1e-12));
+}
+
+int cycle_containing_end(double t) {
+  return clamp_to_int(std::ceil(t - 1e-12) - 1.0);
+}
+
 LoadPath make_load_path(const Scenario& sc) {
   const LoadSpec& spec = sc.load;
   if (spec.path == PathType::table) return read_load_table(spec.table, spec, sc.material.mu);
@@ -84,7 +105,7 @@ LoadPath make_load_path(const Scenario& sc) {
       const double t = times[k];
       const double phase = std::fmod(t, 1.0);
       const bool turning = std::abs(phase - 0.25) < 1e-12 || std::abs(phase - 0.75) < 1e-12;
-      const int cycle = int(std::floor(t + 1e-12));
+      const int cycle = cycle_of_time(t);
       path.steps.push_back(
           {t, cycle, normal, spec.control, std::sin(2 * std::numbers::pi * t) * e, true, turning});
     }

@@ -90,9 +90,12 @@ LoadPath read_load_table(const std::filesystem::path& file, const LoadSpec& spec
       throw InputError(file.string() + ":" + std::to_string(lines[k]) +
                        ": the normal load must be positive");
     const Vec2 target = disp ? Vec2(col("Ux", k), col("Uy", k)) : Vec2(col("Fx", k), col("Fy", k));
-    if (k == 0) path.steps.push_back({t[0], 0, normal, control, Vec2::Zero(), false, false});
+    // `cycle` is the integer part of time, as for a sine (issue 14 item 13: 0 on every row).
+    if (k == 0)
+      path.steps.push_back(
+          {t[0], cycle_of_time(t[0]), normal, control, Vec2::Zero(), false, false});
     if (k == 0 && target.norm() == 0.0) continue;
-    path.steps.push_back({t[k], 0, normal, control, target, false, false});
+    path.steps.push_back({t[k], cycle_of_time(t[k]), normal, control, target, false, false});
   }
   // Turning points: where the tangential motion reverses or the path ends.
   for (std::size_t k = 1; k + 1 < path.steps.size(); ++k) {

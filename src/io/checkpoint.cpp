@@ -11,12 +11,22 @@
 #include <vector>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/format.hpp"
 #include "fretbem/core/hdf5.hpp"
 #include "fretbem/io/result_metadata.hpp"
 
 namespace fretbem {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// The checkpoint's own format version (a dataset); older checkpoints used the second name,
+// which the root attribute format_version (the result-file layout) shares.
+constexpr const char* kFormatDataset = "checkpoint_format";
+constexpr const char* kOldFormatDataset = "format_version";
+
+}  // namespace
 
 namespace {
 
@@ -101,8 +111,11 @@ std::vector<char> checkpoint_image(const Model& model, const Stepper& stepper,
   if (!fapl.valid() || H5Pset_fapl_core(fapl.get(), 1 << 20, 0) < 0) write_failed("(set-up)");
   hdf5::File f(H5Fcreate("fretbem-checkpoint-image", H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()));
   if (!f.valid()) write_failed("(in memory)");
+  // Named apart from the root attribute format_version (the result-file layout shared with
+  // result.h5): one file, two versions, two names. Checkpoints written before carry it as the
+  // dataset format_version, still read.
   const std::vector<double> version{double(kCheckpointFormat)};
-  write_vector(f.get(), "format_version", version);
+  write_vector(f.get(), kFormatDataset, version);
   write_text(f.get(), "run_id", model.run_id);
   io::write_file_attributes(f.get(), model.scenario.grid, model.scenario.output.dir,
                             "fretbem checkpoint", "checkpoint");
@@ -329,12 +342,15 @@ Checkpoint load_checkpoint(const fs::path& dir) {
   hdf5::File f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
   if (!f.valid()) throw InputError(path.string() + ": cannot open checkpoint");
   const Reader r(f.get(), path, bytes);
-  if (!r.exists("format_version"))
-    r.fail("no format_version (written by fretbem before checkpoint format " +
+  const char* name = r.exists(kFormatDataset)      ? kFormatDataset
+                     : r.exists(kOldFormatDataset) ? kOldFormatDataset
+                                                   : nullptr;
+  if (!name)
+    r.fail(std::string("no ") + kFormatDataset + " (written by fretbem before checkpoint format " +
            std::to_string(kCheckpointFormat) + ")");
-  const auto version = r.vector("format_version", 1);
+  const auto version = r.vector(name, 1);
   if (version[0] != kCheckpointFormat)
-    r.fail("format_version " + std::to_string(version[0]) + ", this fretbem reads " +
+    r.fail(std::string(name) + " " + format_number(version[0]) + ", this fretbem reads " +
            std::to_string(kCheckpointFormat));
   Checkpoint c;
   c.run_id = r.text("run_id");

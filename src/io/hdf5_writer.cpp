@@ -266,7 +266,8 @@ void Hdf5Writer::start_timeseries(const std::vector<std::string>& columns) {
 
 void Hdf5Writer::append_row(const std::vector<double>& row) {
   if (!impl_->timeseries.valid())
-    throw std::invalid_argument(impl_->path.string() + ": append_row before start_timeseries");
+    throw std::invalid_argument(impl_->path.string() +
+                                ": has no /timeseries dataset to append the step's row to");
   if (row.size() != impl_->columns.size())
     throw std::invalid_argument(impl_->path.string() + ": row of " + std::to_string(row.size()) +
                                 " values for " + std::to_string(impl_->columns.size()) +

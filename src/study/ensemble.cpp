@@ -1,8 +1,8 @@
 #include "fretbem/study/ensemble.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -21,6 +21,8 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/scenario/scenario.hpp"
+#include "fretbem/study/subprocess.hpp"
+#include "fretbem/study/sweep_runner.hpp"
 
 extern char** environ;
 
@@ -104,14 +106,6 @@ void spawn(const EnsembleOptions& o, Member& m) {
   if (rc != 0) m.pid = -1, m.exit_code = 127;
 }
 
-std::string last_line(const fs::path& file) {
-  std::ifstream in(file);
-  std::string line, last;
-  while (std::getline(in, line))
-    if (!line.empty() && line.find_first_not_of(" \r") != std::string::npos) last = line;
-  return last.empty() ? "(no output)" : last;
-}
-
 void report(const EnsembleOptions& o, const Member& m, int done, int total) {
   const bool ok = m.exit_code == 0;
   if (!ok)
@@ -121,12 +115,24 @@ void report(const EnsembleOptions& o, const Member& m, int done, int total) {
     std::fprintf(stderr, "[%d/%d] %s ok, %.1f s\n", done, total, m.dir.string().c_str(), m.seconds);
 }
 
-// Runs the members, at most `jobs` at a time; fills exit codes and wall times.
-void run_members(const EnsembleOptions& o, std::vector<Member>& members, int jobs) {
+// Runs the members, at most `jobs` at a time; fills exit codes and wall times. SIGTERM or
+// SIGINT (the sweep's handler) ends the running members, which count as failed, starts no
+// more (their exit code stays -1), and returns false; finished members are kept.
+bool run_members(const EnsembleOptions& o, std::vector<Member>& members, int jobs) {
   std::map<pid_t, Member*> running;
   std::size_t next = 0;
   int done = 0;
+  auto finish = [&](Member& m, int code) {
+    m.exit_code = code;
+    m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m.start).count();
+    report(o, m, ++done, int(members.size()));
+  };
   while (next < members.size() || !running.empty()) {
+    if (sweep_stop_requested()) {
+      for (const auto& [pid, m] : running) kill(pid, SIGTERM);
+      for (const auto& [pid, m] : running) finish(*m, wait_child(pid));
+      return false;
+    }
     while (next < members.size() && int(running.size()) < jobs) {
       Member& m = members[next++];
       spawn(o, m);
@@ -135,16 +141,22 @@ void run_members(const EnsembleOptions& o, std::vector<Member>& members, int job
       else
         report(o, m, ++done, int(members.size()));
     }
-    int status = 0;
-    const pid_t pid = waitpid(-1, &status, 0);
-    const auto it = running.find(pid);
-    if (pid < 0 || it == running.end()) continue;
-    Member& m = *it->second;
-    running.erase(it);
-    m.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m.start).count();
-    report(o, m, ++done, int(members.size()));
+    // Polled, not a blocking wait: a signal must be seen while members run.
+    bool reaped = false;
+    for (auto it = running.begin(); it != running.end();) {
+      const auto code = poll_child(it->first);
+      if (!code) {
+        ++it;
+        continue;
+      }
+      Member& m = *it->second;
+      it = running.erase(it);
+      finish(m, *code);
+      reaped = true;
+    }
+    if (!reaped) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+  return !sweep_stop_requested();
 }
 
 }  // namespace
@@ -298,13 +310,17 @@ int run_ensemble(const EnsembleOptions& opt) {
       m.hurst = H, m.seed = s, m.dir = member_dir(H, s);
       members.push_back(m);
     }
-  run_members(o, members, o.jobs);
+  install_sweep_signal_handlers();
+  const bool complete = run_members(o, members, o.jobs);
   const Curves curves = load_curves(o, members, mu);
   write_members(o.out / "members.csv", members);
   write_aggregate(o, members, curves);
   int failed = 0;
   for (const auto& m : members) failed += m.exit_code != 0;
-  return failed;
+  if (!complete)
+    std::fprintf(stderr, "fretbem ensemble: stopped by a signal; %d of %zu member(s) finished\n",
+                 int(members.size()) - failed, members.size());
+  return complete ? failed : kEnsembleStopped;
 }
 
 }  // namespace fretbem

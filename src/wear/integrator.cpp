@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/format.hpp"
 #include "fretbem/wear/preconditioner.hpp"
 
 namespace fretbem {
@@ -295,10 +296,19 @@ struct Integrator {
   }
 };
 
-void check(int flag, const char* what) {
-  if (flag < 0)
-    throw SolverError(std::string("ARKODE ") + what + " failed (flag " + std::to_string(flag) +
-                      ")");
+// A failed ARKODE call as one line a user can act on (issue 14 item 12: "ARKODE step failed
+// (flag -22)" named nothing): the call, the wear cycle N when known, SUNDIALS' name of the
+// flag, and the keys that steer the integrator.
+void check(int flag, const char* what, double N = -1.0) {
+  if (flag >= 0) return;
+  char* name = ARKStepGetReturnFlagName(flag);  // malloc'ed by SUNDIALS
+  std::string msg = std::string("wear integrator (ARKODE): ") + what + " failed";
+  if (N >= 0.0) msg += " at wear cycle N = " + format_number(N);
+  msg += std::string(": ") + (name ? name : "unknown flag") + " (flag " + std::to_string(flag) +
+         "); check wear.coefficient and wear.cycles, or try wear.integrator = cycle or other "
+         "wear.rtol / wear.atol";
+  std::free(name);
+  throw SolverError(msg);
 }
 
 // Implicit method: TR-BDF2 (ARKODE_TRBDF2_3_3_2): an ESDIRK of order 2 with an explicit first
@@ -495,7 +505,7 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegr
       const std::size_t first = rep.history.size();
       const int flag = it.evolve(snaps[i], y, &t);
       if (d.error) std::rethrow_exception(d.error);
-      check(flag, "step");
+      check(flag, "step", t);
       if (!implicit) {
         cap = explicit_step_cap(model, d.step_max_slip);
         check(it.max_step(cap), "max step");

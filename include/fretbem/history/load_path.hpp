@@ -5,8 +5,8 @@
 #include <optional>
 #include <vector>
 
-#include "fretbem/scenario/scenario.hpp"
 #include "fretbem/contact/tangential_operator.hpp"
+#include "fretbem/scenario/scenario.hpp"
 
 namespace fretbem {
 
@@ -29,6 +29,13 @@ struct LoadStep {
   bool relative = true;  ///< force target in units of mu F_z (ramp, sine) or in N (tables)
   bool turning = false;  ///< a turning point of the path (fields are saved there)
 };
+
+/// The cycle of path time t (period 1): its integer part, floor(t), within a rounding error
+/// of 1e-12 (a sine step at t = 2 - 1e-16 is in cycle 2); clamped to the range of an int.
+int cycle_of_time(double t);
+/// The cycle that contains the interval (t_prev, t]: ceil(t) - 1, same rounding and clamp.
+/// A step's increment belongs to it (cycles.csv).
+int cycle_containing_end(double t);
 
 struct LoadPath {
   std::vector<LoadStep> steps;

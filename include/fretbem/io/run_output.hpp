@@ -62,9 +62,13 @@ class CycleSummary final : public Observer {
   io::CsvWriter csv_;
   bool have_prev_ = false;
   StepRecord prev_;
-  int cycle_ = -1;
+  bool in_cycle_ = false;  // cycle_ holds a cycle (table times may be negative: no sentinel)
+  int cycle_ = 0;
   double diss0_ = 0, loop_ = 0, fmin_ = 0, fmax_ = 0, umin_ = 0, umax_ = 0;
+  // kx at the extreme-F_x turning points; kx at the extreme-F_x steps for a cycle without one.
   double k_at_max_ = 0, k_at_min_ = 0, slip_at_peak_ = 0, peak_ = -1;
+  double k_any_max_ = 0, k_any_min_ = 0;
+  bool turn_max_ = false, turn_min_ = false;
   double ring_ = -1, ring_radius_ = 0;
   long ring_nodes_ = 0;
   bool ring_at_peak_ = false;

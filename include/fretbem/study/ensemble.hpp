@@ -50,8 +50,13 @@ struct MeanCi {
 /// Mean and t_{0.975, n-1} s / sqrt(n) of the finite values (NaN half width when n < 2).
 MeanCi mean_ci95(const std::vector<double>& v);
 
+/// run_ensemble's result when SIGTERM or SIGINT stopped it.
+constexpr int kEnsembleStopped = -1;
+
 /// Runs every member, writes DIR/members.csv and DIR/aggregate.csv; returns the number of
-/// failed members (each reported on stderr). Throws InputError on bad options.
+/// failed members (each reported on stderr), or kEnsembleStopped when a signal ended the
+/// running members (members.csv and aggregate.csv are still written, of the finished members;
+/// members never started have exit code -1). Throws InputError on bad options.
 int run_ensemble(const EnsembleOptions& opt);
 
 }  // namespace fretbem
