@@ -1,9 +1,11 @@
 #include "fretbem/study/sweep.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/history/resolution.hpp"
 #include "fretbem/study/mpi_queue.hpp"
 #include "fretbem/study/sweep_aggregate.hpp"
 
@@ -53,6 +55,28 @@ std::vector<std::size_t> one_member(const SweepSpec& spec, long k) {
   return {std::size_t(k)};
 }
 
+// One line before the members run when the study refined grids or some slip rings stay under
+// two cells: the details are sweep.csv's grid_n, ring_cells_predicted and resolution.
+void report_grids(const SweepSpec& spec) {
+  int refined = 0, under = 0, max_n = 0;
+  for (const auto& g : spec.grids) {
+    refined += g.n != g.base_n, under += g.resolution.rfind("under-resolved", 0) == 0;
+    max_n = std::max(max_n, g.n);
+  }
+  if (refined)
+    std::fprintf(stderr,
+                 "fretbem sweep: %d member(s) run on a finer grid (up to grid.n = %d) so that "
+                 "the slip ring spans %g cells\n",
+                 refined, max_n, kMinRingCells);
+  if (under)
+    std::fprintf(
+        stderr,
+        "fretbem sweep: %d member(s) have a slip ring under %g cells (energy per cycle "
+        "under-resolved)%s; see resolution in sweep.csv\n",
+        under, kMinRingCells,
+        spec.max_grid_n ? " even at study.max_grid_n" : ": set study.max_grid_n to refine");
+}
+
 }  // namespace
 
 int run_sweep_command(const SweepCommand& c) {
@@ -72,6 +96,7 @@ int run_sweep_command(const SweepCommand& c) {
     return member_complete(spec, std::size_t(cmd.member)) ? 0 : kExitFailed;
   }
   if (!mpi_launched()) {
+    if (!cmd.options.quiet) report_grids(spec);
     auto queue = make_local_queue(pending_members(spec));
     const bool finished = run_sweep_members(spec, *queue, cmd.options);
     const int rc = aggregate(spec, cmd.options.quiet);
@@ -79,6 +104,7 @@ int run_sweep_command(const SweepCommand& c) {
   }
   MpiSession mpi;
   cmd.options.label = "fretbem sweep[rank " + std::to_string(mpi.rank()) + "]";
+  if (!cmd.options.quiet && mpi.rank() == 0) report_grids(spec);
   // Only rank 0 decides what is pending: the others must not race it reading status files.
   auto queue =
       make_mpi_queue(mpi, mpi.rank() == 0 ? pending_members(spec) : std::vector<std::size_t>{});
