@@ -58,7 +58,7 @@ def plot_sphere(rows, scn, out, study_dirs):
     for x in sorted(m, key=lambda x: x["D"]):
         Wc = c.md_energy(x["q"] * muP) if x["force"] else c.displacement_energy(x["D"])
         print(f"{'force' if x['force'] else 'displacement'}, {x['q']:.4g}, {x['D'] / ustar:.4g}, "
-              f"{x['W']:.6g}, {Wc:.6g}, {x['W'] / Wc:.4f}, {x['ring']:.2f}, {x['a_h']:.0f}")
+              f"{x['W']:.6g}, {Wc:.6g}, {x['W'] / Wc:.5f}, {x['ring']:.2f}, {x['a_h']:.0f}")
     fig, axs = fp.figure(ncols=2, width=8.4, height=3.2)
     force = [x for x in m if x["force"]]
     ax = axs[0, 0]
@@ -71,8 +71,9 @@ def plot_sphere(rows, scn, out, study_dirs):
         draw_members(ax, force, "q", muP * ustar)
     ax.set_xlabel("Q*/(μP)")
     ax.set_ylabel("W / (μP u*)")
-    ax.set_title("force control")
-    ax.legend()
+    ax.set_title("force control" if force else "force control (no member)")
+    if force:
+        ax.legend()
     ax = axs[0, 1]
     D = np.array([x["D"] for x in m]) / ustar
     dd = np.logspace(np.log10(min(D.min(), 0.01)), np.log10(max(D.max(), 2) * 1.2), 300)

@@ -60,21 +60,27 @@ std::vector<std::size_t> one_member(const SweepSpec& spec, long k) {
 void report_grids(const SweepSpec& spec) {
   int refined = 0, under = 0, max_n = 0;
   for (const auto& g : spec.grids) {
-    refined += g.n != g.base_n, under += g.resolution.rfind("under-resolved", 0) == 0;
-    max_n = std::max(max_n, g.n);
+    refined += g.resolution.rfind("refined", 0) == 0;
+    under += g.resolution.rfind("under-resolved", 0) == 0;
+    if (g.n != g.base_n) max_n = std::max(max_n, g.n);
   }
   if (refined)
     std::fprintf(stderr,
-                 "fretbem sweep: %d member(s) run on a finer grid (up to grid.n = %d) so that "
-                 "the slip ring spans %g cells\n",
+                 "fretbem sweep: %d member(s) refined (up to grid.n = %d) so that the slip ring "
+                 "spans %g cells\n",
                  refined, max_n, kMinRingCells);
-  if (under)
-    std::fprintf(
-        stderr,
-        "fretbem sweep: %d member(s) have a slip ring under %g cells (energy per cycle "
-        "under-resolved)%s; see resolution in sweep.csv\n",
-        under, kMinRingCells,
-        spec.max_grid_n ? " even at study.max_grid_n" : ": set study.max_grid_n to refine");
+  if (under && spec.max_grid_n)
+    std::fprintf(stderr,
+                 "fretbem sweep: %d member(s) keep a slip ring under %g cells even at "
+                 "study.max_grid_n = %d (energy per cycle under-resolved); see resolution in "
+                 "sweep.csv\n",
+                 under, kMinRingCells, spec.max_grid_n);
+  else if (under)
+    std::fprintf(stderr,
+                 "fretbem sweep: %d member(s) have a slip ring under %g cells (energy per cycle "
+                 "under-resolved); set study.max_grid_n to refine them; see resolution in "
+                 "sweep.csv\n",
+                 under, kMinRingCells);
 }
 
 }  // namespace
