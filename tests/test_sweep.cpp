@@ -49,8 +49,12 @@ TEST(SweepValues, ListsAndRanges) {
   EXPECT_EQ(v.back(), "100");
   for (int i = 0; i < 5; ++i)
     EXPECT_NEAR(std::stod(v[i]), std::pow(10.0, i - 2), 1e-14 * std::pow(10.0, i - 2));
+  // Whole-numbered ranges stay whole (a + t (b - a) once gave seed 7.000000000000001).
+  const auto seeds = parse_sweep_values("surface.seed", "linear(1, 10000, 10000)");
+  for (int i = 0; i < 10000; ++i) ASSERT_EQ(seeds[i], std::to_string(i + 1));
   for (const char* bad : {"linear(1, 3)", "log(0, 1, 3)", "linear(1, 2, 2.5)", "linear(a, 2, 3)",
-                          "1,,2", "log(1, 2, 0)"})
+                          "1,,2", "log(1, 2, 0)", "log(-1, 1, 3)", "linear(0, 1, 0)",
+                          "linear(0, 1, 1e7)", "linear(0, nan, 3)", ",", ""})
     EXPECT_THROW(parse_sweep_values("k", bad), InputError) << bad;
 }
 
@@ -213,6 +217,16 @@ TEST(Resources, CgroupLimitV2V1AndUnlimited) {
   std::ofstream(v1 / "memory" / "memory.limit_in_bytes") << "1073741824\n";
   EXPECT_EQ(cgroup_memory_limit(v1.string()).value_or(0), 1073741824.0);
   EXPECT_GT(usable_memory_bytes(), 0.0);
+  // Slurm's cgroup v2 layout: the limit on the job, "max" in the step and task below it.
+  const fs::path job = scratch("cgroup_slurm");
+  fs::create_directories(job / "job_7" / "step_0" / "task_0");
+  std::ofstream(job / "memory.max") << "max\n";
+  std::ofstream(job / "job_7" / "memory.max") << "4294967296\n";
+  std::ofstream(job / "job_7" / "step_0" / "memory.max") << "max\n";
+  std::ofstream(job / "job_7" / "step_0" / "task_0" / "memory.max") << "max\n";
+  EXPECT_EQ(cgroup_memory_limit(job.string(), "/job_7/step_0/task_0").value_or(0), 4294967296.0);
+  std::ofstream(job / "job_7" / "step_0" / "memory.max") << "1073741824\n";  // the smaller wins
+  EXPECT_EQ(cgroup_memory_limit(job.string(), "/job_7/step_0/task_0/").value_or(0), 1073741824.0);
 }
 
 TEST(Resources, SlurmCpusPerTaskCapsTheAffinityCount) {

@@ -61,6 +61,16 @@ class Contact:
         # Reloading is unloading mirrored through the origin: U_up(-F) = -U_down(F).
         return np.concatenate((down, -down)), np.concatenate((Q, -Q))
 
+    def displacement_energy(self, D):
+        """Energy per cycle (J) under displacement control between -D and +D: Mindlin–Deresiewicz
+        at the force amplitude q = 1 - (1 - D/u*)^(3/2) below full sliding, and beyond it the
+        gross-slip line 4 mu P (D - 4u*/5) (the rectangle 2D x 2 mu P less two corners of area
+        (8/5) mu P u*, where the reversed branches take 2u* to reach -+mu P), u* = U* above."""
+        muP, us = self.mu * self.P, self.sliding_shift(self.hertz_indentation())
+        D = np.asarray(D, dtype=float)
+        q = 1 - (1 - np.minimum(D / us, 1)) ** 1.5
+        return np.where(D < us, self.md_energy(q * muP), 4 * muP * (D - 0.8 * us))
+
     def md_energy(self, Q_star):
         """Energy per cycle (J): (9 mu^2 P^2 / 10 a)(4/G*)[1 - (1-x)^(5/3) - (5x/6)(1 + (1-x)^(2/3))],
         x = Q*/mu P (Johnson eq. 7.60 with (2-nu1)/G1 + (2-nu2)/G2 = 4/G*)."""

@@ -59,11 +59,25 @@ int usable_cpus() {
 }
 
 std::optional<double> cgroup_memory_limit(const std::string& root) {
-  // cgroup v2: the own group's memory.max, else the root's (a container's namespace root).
-  for (const std::string& dir : {root + own_cgroup_v2_path(), root}) {
-    const std::string v2 = first_line(dir + "/memory.max");
-    if (!v2.empty()) return v2 == "max" ? std::nullopt : read_positive(v2);
+  return cgroup_memory_limit(root, own_cgroup_v2_path());
+}
+
+std::optional<double> cgroup_memory_limit(const std::string& root, const std::string& own) {
+  // cgroup v2: the smallest memory.max from the own group up to the root. Slurm sets the job's
+  // limit on job_N and leaves "max" in the step and task groups below it, where the process is.
+  std::optional<double> limit;
+  bool any_v2 = false;
+  for (std::string path = own;;) {
+    while (!path.empty() && path.back() == '/') path.pop_back();
+    const std::string v2 = first_line(root + path + "/memory.max");
+    any_v2 = any_v2 || !v2.empty();
+    if (const auto v = v2 == "max" ? std::nullopt : read_positive(v2))
+      limit = limit ? std::min(*limit, *v) : *v;
+    if (path.empty()) break;
+    const auto slash = path.find_last_of('/');
+    path.resize(slash == std::string::npos ? 0 : slash);
   }
+  if (any_v2) return limit;
   // cgroup v1: "no limit" reads as a page-rounded 2^63 - 1.
   const auto v1 = read_positive(first_line(root + "/memory/memory.limit_in_bytes"));
   if (v1 && *v1 < 0x1p62) return v1;

@@ -1,8 +1,7 @@
 #include "fretbem/study/ensemble.hpp"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -15,16 +14,14 @@
 #include <limits>
 #include <map>
 #include <sstream>
-#include <thread>
 
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/resources.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/study/subprocess.hpp"
 #include "fretbem/study/sweep_runner.hpp"
-
-extern char** environ;
 
 namespace fretbem {
 
@@ -88,22 +85,15 @@ std::vector<std::string> member_args(const EnsembleOptions& o, const Member& m) 
   return a;
 }
 
-// Starts one member with stdout and stderr in its directory's log.txt.
+// Starts one member with stdout and stderr in its directory's log.txt (a fresh log: a rerun
+// with --overwrite must not show the previous run's last line as this one's error).
 void spawn(const EnsembleOptions& o, Member& m) {
   fs::create_directories(o.out / m.dir);
-  const std::string log = (o.out / m.dir / "log.txt").string();
-  std::vector<std::string> args = member_args(o, m);
-  std::vector<char*> argv;
-  for (auto& s : args) argv.push_back(s.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  const fs::path log = o.out / m.dir / "log.txt";
+  fs::remove(log);
   m.start = std::chrono::steady_clock::now();
-  const int rc = posix_spawn(&m.pid, argv[0], &fa, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&fa);
-  if (rc != 0) m.pid = -1, m.exit_code = 127;
+  m.pid = spawn_logged(member_args(o, m), log);
+  if (m.pid < 0) m.exit_code = 127;
 }
 
 void report(const EnsembleOptions& o, const Member& m, int done, int total) {
@@ -287,7 +277,7 @@ int run_ensemble(const EnsembleOptions& opt) {
   if (o.bins < 1 || o.bins > kMaxBins)
     throw InputError("--bins: must be in [1, " + std::to_string(kMaxBins) + "], got " +
                      std::to_string(o.bins));
-  if (o.jobs == 0) o.jobs = int(std::max(1u, std::thread::hardware_concurrency()));
+  if (o.jobs == 0) o.jobs = usable_cpus();  // affinity mask and SLURM_CPUS_PER_TASK
   if (o.binary.empty()) o.binary = fs::read_symlink("/proc/self/exe");
   // Validate every member's scenario up front (one line naming the key on bad input).
   double mu = 0;

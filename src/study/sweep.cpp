@@ -1,9 +1,11 @@
 #include "fretbem/study/sweep.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/history/resolution.hpp"
 #include "fretbem/study/mpi_queue.hpp"
 #include "fretbem/study/sweep_aggregate.hpp"
 
@@ -53,6 +55,34 @@ std::vector<std::size_t> one_member(const SweepSpec& spec, long k) {
   return {std::size_t(k)};
 }
 
+// One line before the members run when the study refined grids or some slip rings stay under
+// two cells: the details are sweep.csv's grid_n, ring_cells_predicted and resolution.
+void report_grids(const SweepSpec& spec) {
+  int refined = 0, under = 0, max_n = 0;
+  for (const auto& g : spec.grids) {
+    refined += g.resolution.rfind("refined", 0) == 0;
+    under += g.resolution.rfind("under-resolved", 0) == 0;
+    if (g.n != g.base_n) max_n = std::max(max_n, g.n);
+  }
+  if (refined)
+    std::fprintf(stderr,
+                 "fretbem sweep: %d member(s) refined (up to grid.n = %d) so that the slip ring "
+                 "spans %g cells\n",
+                 refined, max_n, kMinRingCells);
+  if (under && spec.max_grid_n)
+    std::fprintf(stderr,
+                 "fretbem sweep: %d member(s) keep a slip ring under %g cells even at "
+                 "study.max_grid_n = %d (energy per cycle under-resolved); see resolution in "
+                 "sweep.csv\n",
+                 under, kMinRingCells, spec.max_grid_n);
+  else if (under)
+    std::fprintf(stderr,
+                 "fretbem sweep: %d member(s) have a slip ring under %g cells (energy per cycle "
+                 "under-resolved); set study.max_grid_n to refine them; see resolution in "
+                 "sweep.csv\n",
+                 under, kMinRingCells);
+}
+
 }  // namespace
 
 int run_sweep_command(const SweepCommand& c) {
@@ -72,6 +102,7 @@ int run_sweep_command(const SweepCommand& c) {
     return member_complete(spec, std::size_t(cmd.member)) ? 0 : kExitFailed;
   }
   if (!mpi_launched()) {
+    if (!cmd.options.quiet) report_grids(spec);
     auto queue = make_local_queue(pending_members(spec));
     const bool finished = run_sweep_members(spec, *queue, cmd.options);
     const int rc = aggregate(spec, cmd.options.quiet);
@@ -79,6 +110,7 @@ int run_sweep_command(const SweepCommand& c) {
   }
   MpiSession mpi;
   cmd.options.label = "fretbem sweep[rank " + std::to_string(mpi.rank()) + "]";
+  if (!cmd.options.quiet && mpi.rank() == 0) report_grids(spec);
   // Only rank 0 decides what is pending: the others must not race it reading status files.
   auto queue =
       make_mpi_queue(mpi, mpi.rank() == 0 ? pending_members(spec) : std::vector<std::size_t>{});

@@ -1,6 +1,7 @@
 #include "fretbem/study/sweep_aggregate.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <map>
 
@@ -60,6 +61,14 @@ std::string status_word(const MemberStatus& st, bool complete) {
   return st.exit_code == 0 ? "missing" : "failed";
 }
 
+// The member's grid and its predicted slip ring (study/member_grid.hpp): which members the
+// study refined, and which stay under-resolved and by how much.
+void write_grid(std::ostream& out, const MemberGrid& g) {
+  out << ',' << g.n << ',';
+  if (g.ring_cells >= 0) out << format_number(std::round(g.ring_cells * 100) / 100);
+  out << ',' << quoted(g.resolution);
+}
+
 }  // namespace
 
 SweepTally write_sweep_csv(const SweepSpec& spec) {
@@ -89,7 +98,7 @@ SweepTally write_sweep_csv(const SweepSpec& spec) {
     std::ofstream out(tmp);
     out << "member,dir";
     for (const auto& a : spec.axes) out << ',' << a.key;
-    out << ",status,exit_code,seconds,error";
+    out << ",status,exit_code,seconds,error,grid_n,ring_cells_predicted,resolution";
     for (const auto& c : columns) out << ',' << c;
     out << '\n';
     for (std::size_t k = 0; k < rows.size(); ++k) {
@@ -102,6 +111,7 @@ SweepTally write_sweep_csv(const SweepSpec& spec) {
       else
         out << ',';
       out << ',' << quoted(r.status.error);
+      write_grid(out, spec.grids.at(k));
       std::map<std::string, std::string> by_name(r.summary.begin(), r.summary.end());
       for (const auto& c : columns) out << ',' << (by_name.count(c) ? by_name[c] : "");
       out << '\n';

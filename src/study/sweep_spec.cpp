@@ -10,6 +10,7 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/scenario/scenario.hpp"
+#include "fretbem/study/member_grid.hpp"
 
 namespace fretbem {
 
@@ -53,13 +54,17 @@ std::vector<std::string> range_values(const std::string& key, const std::string&
       !parse_double(args[1], b) || !parse_double(args[2], n) || n < 1 || n != std::floor(n) ||
       n > 1e6)
     throw InputError(what + ": expected " + (log ? "log" : "linear") +
-                     "(first, last, count) with a whole count >= 1");
+                     "(first, last, count) with finite ends and a whole count 1 ... 1000000");
   if (log && !(a > 0 && b > 0)) throw InputError(what + ": log ranges need positive ends");
   const int count = int(n);
   std::vector<std::string> out;
   for (int i = 0; i < count; ++i) {
     const double t = count == 1 ? 0.0 : double(i) / (count - 1);
-    double v = log ? std::exp(std::log(a) + t * (std::log(b) - std::log(a))) : a + t * (b - a);
+    // Linear: the weighted mean of the ends, exact for whole numbers (a + t (b - a) gave
+    // surface.seed = 7.000000000000001 in linear(1, 10000, 10000)).
+    double v = log          ? std::exp(std::log(a) + t * (std::log(b) - std::log(a)))
+               : count == 1 ? a
+                            : (a * (count - 1 - i) + b * i) / (count - 1);
     if (i == 0) v = a;
     if (i == count - 1 && count > 1) v = b;
     out.push_back(format_number(v));
@@ -101,10 +106,11 @@ StudyFile read_study_file(const fs::path& file) {
       f.vary.emplace_back(key, value);
     } else if (key == "set") {
       f.sets.push_back(value);
-    } else if (key == "scenario" || key == "out" || key == "combine") {
+    } else if (key == "scenario" || key == "out" || key == "combine" || key == "max_grid_n") {
       f.study[key] = value;
     } else {
-      throw InputError(where + ": unknown key study." + key + " (scenario, out, combine, set)");
+      throw InputError(where + ": unknown key study." + key +
+                       " (scenario, out, combine, set, max_grid_n)");
     }
   }
   return f;
@@ -152,6 +158,17 @@ void refuse_duplicates(const SweepSpec& s) {
   }
 }
 
+// [study] max_grid_n: a whole number of cells per side, or absent (0: no refinement).
+int read_max_grid_n(const fs::path& file, const std::map<std::string, std::string>& study) {
+  if (!study.count("max_grid_n")) return 0;
+  const std::string& text = study.at("max_grid_n");
+  double v = 0;
+  if (!parse_double(text, v) || v != std::floor(v) || v < 2 || v > 65536)
+    throw InputError(file.string() + ": study.max_grid_n = " + text +
+                     ": expected a whole number of cells per side, 2 ... 65536");
+  return int(v);
+}
+
 }  // namespace
 
 std::vector<std::string> parse_sweep_values(const std::string& key, const std::string& text) {
@@ -170,6 +187,10 @@ std::vector<std::string> parse_sweep_values(const std::string& key, const std::s
 std::vector<std::string> SweepSpec::member_sets(std::size_t k) const {
   std::vector<std::string> s = sets;
   for (std::size_t i = 0; i < axes.size(); ++i) s.push_back(axes[i].key + "=" + members[k][i]);
+  // Both sides: a scenario that gives grid.nx and grid.ny ignores grid.n.
+  if (k < grids.size() && grids[k].n != grids[k].base_n)
+    for (const char* side : {"grid.nx=", "grid.ny="})
+      s.push_back(side + std::to_string(grids[k].n));
   return s;
 }
 
@@ -206,10 +227,15 @@ SweepSpec load_sweep_spec(const fs::path& file, const std::vector<std::string>& 
       throw InputError(file.string() + ": combine = zip needs equally many values, but " +
                        s.axes.front().key + " has " + std::to_string(s.axes.front().values.size()) +
                        " and " + a.key + " has " + std::to_string(a.values.size()));
+  s.max_grid_n = read_max_grid_n(file, f.study);
   s.members = combine(s.axes, s.zip);
   refuse_duplicates(s);
+  // Each member's scenario is read twice when the study refines its grid: the second time
+  // checks the refined grid (its size limits, the memory it needs) as the run will see it.
   for (std::size_t k = 0; k < s.members.size(); ++k) try {
-      load_scenario(s.scenario, s.member_sets(k));
+      s.grids.push_back(
+          choose_member_grid(load_scenario(s.scenario, s.member_sets(k)), s.max_grid_n));
+      if (s.grids.back().n != s.grids.back().base_n) load_scenario(s.scenario, s.member_sets(k));
     } catch (const InputError& e) {
       throw InputError("member " + std::to_string(k) + " (" + describe(s, k) + "): " + e.what());
     }

@@ -19,6 +19,9 @@ std::optional<int> slurm_cpus_per_task();
 /// memory.limit_in_bytes), read below `cgroup_root` (default /sys/fs/cgroup); nullopt when
 /// there is none ("max", absent, or the v1 "unlimited" sentinel of ~2^63).
 std::optional<double> cgroup_memory_limit(const std::string& cgroup_root = "/sys/fs/cgroup");
+/// The same for a process in cgroup v2 group `own` ("/system.slice/job_7/step_0"): the smallest
+/// memory.max on the path from `own` up to the root (a batch job's limit sits on a parent).
+std::optional<double> cgroup_memory_limit(const std::string& cgroup_root, const std::string& own);
 
 /// Bytes this process may use: the smaller of physical memory and the cgroup limit; 0 when
 /// neither is known.

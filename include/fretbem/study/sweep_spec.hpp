@@ -8,6 +8,7 @@
 //   out      = out/my_study       ; optional; default out/sweep_<study file stem>
 //   combine  = product            ; product (first key varies slowest) or zip
 //   set      = solver.tolerance=1e-9   ; optional fixed override, repeatable
+//   max_grid_n = 512              ; optional: refine members whose slip ring is under 2 cells
 //   [vary]
 //   load.amplitude = 0.2, 0.5           ; a list
 //   surface.seed   = linear(1, 3, 3)    ; n values from a to b, equally spaced
@@ -25,6 +26,19 @@ struct SweepAxis {
   std::vector<std::string> values;  ///< as passed to --set (numbers in shortest round-trip form)
 };
 
+/// The grid a member runs with and what it resolves of the slip ring (history/resolution.hpp's
+/// Hertz prediction; spheres under a constant normal load and a cyclic tangential load only).
+struct MemberGrid {
+  int n = 0;       ///< grid.n the member runs with
+  int base_n = 0;  ///< grid.n of the member's scenario before the study refined it
+  /// Predicted slip-ring width at the load peaks on grid n, in cells; negative: no prediction
+  /// (not a sphere, no cyclic tangential load) or gross slip (the whole contact slips).
+  double ring_cells = -1;
+  /// sweep.csv's `resolution`: "" (no prediction), "resolved", "refined from N", "gross slip",
+  /// or "under-resolved: needs grid.n >= N".
+  std::string resolution;
+};
+
 struct SweepSpec {
   std::filesystem::path study_file;
   std::filesystem::path scenario;  ///< base scenario (absolute or relative to the cwd)
@@ -33,9 +47,15 @@ struct SweepSpec {
   bool zip = false;
   std::vector<SweepAxis> axes;
   std::vector<std::vector<std::string>> members;  ///< values per member, one per axis
+  /// [study] max_grid_n: members whose slip ring spans under kMinRingCells cells run on the
+  /// smallest multiple of 8 that resolves it, up to this; 0: every member keeps its grid.
+  int max_grid_n = 0;
+  std::vector<MemberGrid> grids;  ///< per member (after load_sweep_spec)
 
-  /// --set overrides of member k: the fixed ones, then key=value per axis.
+  /// --set overrides of member k: the fixed ones, then key=value per axis, then grid.n=N
+  /// when the study refined its grid.
   std::vector<std::string> member_sets(std::size_t k) const;
+
   /// Directory of member k below `out`: member_0007 (zero-padded to the member count's width).
   std::filesystem::path member_dir(std::size_t k) const;
 };
