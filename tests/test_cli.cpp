@@ -11,34 +11,17 @@
 #include <sstream>
 #include <string>
 
+#include "support/cli.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int status = -1;
-  std::string out, err;
-};
+using Result = fretbem_test::CliResult;
 
 // Runs the fretbem binary with arguments; captures stdout and stderr.
 Result fretbem(const std::string& args) {
-  // One folder per process: ctest runs the cases of this file in parallel processes.
-  const fs::path tmp = fs::temp_directory_path() / ("fretbem_cli_test_" + std::to_string(getpid()));
-  fs::create_directories(tmp);
-  const std::string cmd = std::string(FRETBEM_BINARY) + " " + args + " > " +
-                          (tmp / "out").string() + " 2> " + (tmp / "err").string();
-  Result r;
-  const int s = std::system(cmd.c_str());
-  r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
-  auto slurp = [](const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
-  r.out = slurp(tmp / "out");
-  r.err = slurp(tmp / "err");
-  return r;
+  return fretbem_test::run_fretbem(args, "fretbem_cli_test");
 }
 
 std::string scenario(const std::string& name) {

@@ -12,14 +12,15 @@
 #include <random>
 #include <string>
 
+#include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/contact/stiffness.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/elastic/half_space.hpp"
 #include "fretbem/history/model.hpp"
-#include "fretbem/contact/normal_solver.hpp"
-#include "fretbem/scenario/scenario.hpp"
 #include "fretbem/history/stepper.hpp"
-#include "fretbem/contact/stiffness.hpp"
+#include "fretbem/scenario/scenario.hpp"
 #include "fretbem/surface/surface.hpp"
+#include "support/hertz.hpp"
 
 namespace fretbem {
 namespace {
@@ -141,20 +142,7 @@ TEST(FftPrecision, UnreachableToleranceFailsAtOnce) {
   EXPECT_NO_THROW(PartitionSolver(op, loose));
 }
 
-const std::string kHertz = R"(
-[material]
-E = 210e9
-nu = 0.3
-mu = 0.5
-[grid]
-n = 32
-length = 2.8e-4
-[surface]
-type = sphere
-radius = 0.01
-[load]
-normal_force = 10
-path = ramp
+const std::string kHertz = fretbem_test::kSteelSphere32 + R"(path = ramp
 amplitude = 0.8
 steps = 2
 )";
@@ -195,18 +183,9 @@ TEST(FftPrecision, ScenarioKeyDefaultsAndRefusals) {
 // The whole run path (normal, tangential, stiffness) in float: the same observables as double
 // to what the 1e-6 tolerance allows.
 TEST(FftPrecision, CattaneoRunFloatMatchesDouble) {
-  struct Collect : Observer {
-    std::vector<StepRecord> rows;
-    void on_step(const StepRecord& r, const InterfaceState&, const Model&) override {
-      rows.push_back(r);
-    }
-  };
   auto run = [](const std::string& prec) {
-    auto model = build_model(parse({"solver.fft_precision=" + prec, "solver.tolerance=1e-6"}));
-    Stepper stepper(*model);
-    Collect c;
-    stepper.run({&c});
-    return c.rows;
+    return fretbem_test::run_steps(
+        parse({"solver.fft_precision=" + prec, "solver.tolerance=1e-6"}));
   };
   const auto d = run("double"), f = run("float");
   ASSERT_EQ(d.size(), f.size());

@@ -10,8 +10,7 @@
 #include <sstream>
 
 #include "fretbem/core/errors.hpp"
-#include "fretbem/history/model.hpp"
-#include "fretbem/history/stepper.hpp"
+#include "support/hertz.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -19,31 +18,15 @@ namespace fs = std::filesystem;
 namespace {
 
 // Hertz sphere, E = 1, nu = 0.3, R = 1, a = 1/4 on a unit domain.
-const double kP = 4.0 / 3.0 / (1 - 0.09) * std::pow(0.25, 3);
+const double kP = fretbem_test::unit_hertz_force();
 
 std::string sphere(int n, double mu, const std::string& load, const std::string& friction) {
-  std::ostringstream s;
-  s.precision(17);
-  s << "[material]\nE = 1\nnu = 0.3\nmu = " << mu << "\n[grid]\nn = " << n
-    << "\nlength = 1\n[surface]\ntype = sphere\nradius = 1\n[load]\nnormal_force = " << kP << "\n"
-    << load << "\n[solver]\ntolerance = 1e-10\n[friction]\n"
-    << friction;
-  return s.str();
+  return fretbem_test::unit_sphere_ini(n, "normal_force = " + format_number(kP) + "\n" + load,
+                                       "[solver]\ntolerance = 1e-10\n[friction]\n" + friction, mu);
 }
 
-struct Recorder : Observer {
-  std::vector<StepRecord> rows;
-  void on_step(const StepRecord& r, const InterfaceState&, const Model&) override {
-    rows.push_back(r);
-  }
-};
-
 std::vector<StepRecord> run(const std::string& text) {
-  auto model = build_model(parse_scenario(text, "friction", fs::temp_directory_path()));
-  Stepper stepper(*model);
-  Recorder rec;
-  stepper.run({&rec});
-  return rec.rows;
+  return fretbem_test::run_steps(text, "friction");
 }
 
 // u* = mu delta E*/G*, delta = a^2 / R: the full-sliding shift for this mu.

@@ -10,8 +10,7 @@
 #include <iomanip>
 #include <sstream>
 
-#include "fretbem/history/model.hpp"
-#include "fretbem/history/stepper.hpp"
+#include "support/hertz.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -20,41 +19,7 @@ namespace {
 
 // Hertz sphere, unit domain, R = 1, E = 1, nu = 0.3, mu = 0.5.
 std::string sphere_scenario(int n, const std::string& load) {
-  std::ostringstream s;
-  s << "[material]\nE = 1\nnu = 0.3\nmu = 0.5\n[grid]\nn = " << n << "\nlength = 1\n"
-    << "[surface]\ntype = sphere\nradius = 1\n[load]\n"
-    << load << "\n[solver]\ntolerance = 1e-10\n";
-  return s.str();
-}
-
-struct Recorder : Observer {
-  std::vector<StepRecord> rows;
-  void on_step(const StepRecord& r, const InterfaceState&, const Model&) override {
-    rows.push_back(r);
-  }
-};
-
-std::vector<StepRecord> run(const std::string& text) {
-  const Scenario sc = parse_scenario(text, "test", fs::temp_directory_path());
-  auto model = build_model(sc);
-  Stepper stepper(*model);
-  Recorder rec;
-  stepper.run({&rec});
-  return rec.rows;
-}
-
-// Trapezoid loop area sum (Fx + Fx') / 2 (Ux' - Ux) and nodal dissipation over time (c, c+1].
-struct CycleEnergy {
-  double loop = 0, nodal = 0;
-};
-CycleEnergy cycle_energy(const std::vector<StepRecord>& rows, int c) {
-  CycleEnergy e;
-  for (std::size_t k = 1; k < rows.size(); ++k) {
-    if (!(rows[k].time > c + 1e-12 && rows[k].time <= c + 1 + 1e-12)) continue;
-    e.loop += 0.5 * (rows[k].Fx + rows[k - 1].Fx) * (rows[k].Ux - rows[k - 1].Ux);
-    e.nodal += rows[k].dissipation - rows[k - 1].dissipation;
-  }
-  return e;
+  return fretbem_test::unit_sphere_ini(n, load, "[solver]\ntolerance = 1e-10\n");
 }
 
 fs::path temp_path(const std::string& name) {
@@ -91,9 +56,10 @@ TEST(Dissipation, SecondOrderUnderVaryingNormalLoad) {
   std::vector<double> diff;
   for (int rows : {16, 32, 64, 128}) {
     const fs::path table = varying_normal_table(rows, P, mu);
-    const auto r = run(sphere_scenario(48, "path = table\ntable = " + table.string()));
+    const auto r =
+        fretbem_test::run_steps(sphere_scenario(48, "path = table\ntable = " + table.string()));
     fs::remove(table);
-    const CycleEnergy e = cycle_energy(r, 2);
+    const fretbem_test::CycleEnergy e = fretbem_test::cycle_energy(r, 2);
     diff.push_back(e.nodal / e.loop - 1);
     std::printf("rows/period %3d: nodal / loop - 1 = %+.3e\n", rows, diff.back());
   }
@@ -116,7 +82,8 @@ TEST(StickArea, DependsOnTheStateNotOnTheHistory) {
   std::vector<std::vector<StepRecord>> runs;
   for (bool prelude : {false, true}) {
     const fs::path table = varying_normal_table(rows, P, mu, prelude);
-    runs.push_back(run(sphere_scenario(48, "path = table\ntable = " + table.string())));
+    runs.push_back(
+        fretbem_test::run_steps(sphere_scenario(48, "path = table\ntable = " + table.string())));
     fs::remove(table);
   }
   const double cell = std::pow(1.0 / 48, 2);

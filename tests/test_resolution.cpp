@@ -10,9 +10,9 @@
 #include <iomanip>
 #include <sstream>
 
-#include "fretbem/history/model.hpp"
 #include "fretbem/history/resolution.hpp"
-#include "fretbem/history/stepper.hpp"
+#include "support/cli.hpp"
+#include "support/hertz.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -30,43 +30,21 @@ StateField annulus(int n, double a, double c) {
   return s;
 }
 
-struct Result {
-  int status = -1;
-  std::string out, err;
-};
+using Result = fretbem_test::CliResult;
 
 fs::path work_dir() {
-  const fs::path d = fs::temp_directory_path() / ("fretbem_resolution_" + std::to_string(getpid()));
-  fs::create_directories(d);
-  return d;
+  return fretbem_test::process_dir("fretbem_resolution");
 }
 
 Result cli(const std::string& args) {
-  const fs::path tmp = work_dir();
-  const std::string cmd = std::string(FRETBEM_BINARY) + " " + args + " > " +
-                          (tmp / "out").string() + " 2> " + (tmp / "err").string();
-  Result r;
-  const int s = std::system(cmd.c_str());
-  r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
-  auto slurp = [](const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
-  r.out = slurp(tmp / "out"), r.err = slurp(tmp / "err");
-  return r;
+  return fretbem_test::run_fretbem(args, "fretbem_resolution");
 }
 
 // Hertz sphere, E = 1, nu = 0.3, R = 1, mu = 0.5, at the force giving a = 1/4 on a unit domain.
 std::string sphere_ini(int n, const std::string& load, double length = 1.0) {
-  std::ostringstream s;
-  s.precision(17);
-  s << "[material]\nE = 1\nnu = 0.3\nmu = 0.5\n[grid]\nn = " << n << "\nlength = " << length
-    << "\n[surface]\ntype = sphere\nradius = 1\n[load]\nnormal_force = "
-    << 4.0 / 3.0 / (1 - 0.09) * std::pow(0.25, 3) << "\n"
-    << load << "\n[solver]\nstiffness = false\n";
-  return s.str();
+  return fretbem_test::unit_sphere_ini(
+      n, "normal_force = " + format_number(fretbem_test::unit_hertz_force()) + "\n" + load,
+      "[solver]\nstiffness = false\n", 0.5, length);
 }
 
 fs::path write_ini(const std::string& name, const std::string& text) {

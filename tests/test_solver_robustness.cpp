@@ -21,6 +21,7 @@
 #include "fretbem/io/failed_solve.hpp"
 #include "fretbem/surface/surface.hpp"
 #include "fretbem/wear/integrator.hpp"
+#include "support/hertz.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -216,19 +217,7 @@ struct NeverConverges : TangentialSolver {
 };
 
 TEST(SolverRobustness, FailedSolveNamesStepCycleAndDumpsInputs) {
-  Scenario sc = scenario(R"([material]
-E = 210e9
-nu = 0.3
-mu = 0.5
-[grid]
-n = 32
-length = 2.8e-4
-[surface]
-type = sphere
-radius = 0.01
-[load]
-normal_force = 10
-path = sine
+  Scenario sc = scenario(fretbem_test::kSteelSphere32 + R"(path = sine
 control = force
 amplitude = 0.5
 cycles = 2

@@ -12,8 +12,7 @@
 #include <sstream>
 #include <thread>
 
-#include "fretbem/history/model.hpp"
-#include "fretbem/history/stepper.hpp"
+#include "support/hertz.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -22,12 +21,7 @@ namespace {
 
 // Hertz sphere, unit domain, contact radius a = 1/4 at P = 4/3 E* a^3 / R (R = 1).
 std::string sphere_scenario(int n, const std::string& load, const std::string& extra = "") {
-  std::ostringstream s;
-  s << "[material]\nE = 1\nnu = 0.3\nmu = 0.5\n[grid]\nn = " << n << "\nlength = 1\n"
-    << "[surface]\ntype = sphere\nradius = 1\n[load]\n"
-    << load << "\n[solver]\ntolerance = 1e-10\n"
-    << extra;
-  return s.str();
+  return fretbem_test::unit_sphere_ini(n, load, "[solver]\ntolerance = 1e-10\n" + extra);
 }
 
 double hertz_force(double E_star) {
@@ -57,19 +51,8 @@ Recorder run(const std::string& text) {
   return rec;
 }
 
-// Loop area and nodal dissipation of the cycle occupying time (c, c+1].
-struct CycleEnergy {
-  double loop = 0, nodal = 0;
-};
-CycleEnergy cycle_energy(const std::vector<StepRecord>& rows, int c) {
-  CycleEnergy e;
-  for (std::size_t k = 1; k < rows.size(); ++k) {
-    if (!(rows[k].time > c + 1e-12 && rows[k].time <= c + 1 + 1e-12)) continue;
-    e.loop += 0.5 * (rows[k].Fx + rows[k - 1].Fx) * (rows[k].Ux - rows[k - 1].Ux);
-    e.nodal += rows[k].dissipation - rows[k - 1].dissipation;
-  }
-  return e;
-}
+using fretbem_test::cycle_energy;
+using fretbem_test::CycleEnergy;
 
 // Mindlin–Deresiewicz (Johnson, Contact Mechanics §7.4–7.5) for the Hertz sphere with
 // u* = mu delta E*/G*: initial loading f(Q) = u* (1 - (1 - Q/muP)^(2/3)); Masing branches;

@@ -15,6 +15,7 @@
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/surface/surface.hpp"
+#include "support/hertz.hpp"
 
 using namespace fretbem;
 
@@ -406,34 +407,7 @@ TEST(Preconditioner, LargestContactPatch) {
 
 namespace {
 
-// A run of this scenario text (temporary output folder), every step's record.
-std::vector<StepRecord> run_text(const std::string& text) {
-  const Scenario sc = parse_scenario(text, "tangential", std::filesystem::temp_directory_path());
-  auto model = build_model(sc);
-  Stepper st(*model);
-  struct Rows : Observer {
-    std::vector<StepRecord> rows;
-    void on_step(const StepRecord& r, const InterfaceState&, const Model&) override {
-      rows.push_back(r);
-    }
-  } rows;
-  st.run({&rows});
-  return rows.rows;
-}
-
-const char* kMindlin32 = R"([material]
-E = 210e9
-nu = 0.3
-mu = 0.5
-[grid]
-n = 32
-length = 2.8e-4
-[surface]
-type = sphere
-radius = 0.01
-[load]
-normal_force = 10
-path = sine
+const std::string kMindlin32 = fretbem_test::kSteelSphere32 + R"(path = sine
 control = force
 amplitude = 0.6
 cycles = 1
@@ -472,8 +446,8 @@ TEST(GrossSliding, ExactlyMuFzIsRefusedLikeMore) {
 // projected method's with Cerruti (the same strictly convex QP per step) to 1e-6 of mu F_z.
 TEST(Partition, WithCerrutiConvergesToTheProjectedLoop) {
   const std::string base = kMindlin32;
-  const auto part = run_text(base + "coupling = cerruti\nalgorithm = partition\n");
-  const auto proj = run_text(base + "coupling = cerruti\nalgorithm = projected\n");
+  const auto part = fretbem_test::run_steps(base + "coupling = cerruti\nalgorithm = partition\n");
+  const auto proj = fretbem_test::run_steps(base + "coupling = cerruti\nalgorithm = projected\n");
   ASSERT_EQ(part.size(), proj.size());
   for (std::size_t k = 0; k < part.size(); ++k) {
     EXPECT_NEAR(part[k].Fx, proj[k].Fx, 1e-6 * 5.0) << k;

@@ -53,6 +53,16 @@ def save(fig, out):
     print(pdf)
 
 
+def count(N):
+    """A cycle count as fretbem prints it (core/format.hpp format_count): an integer when it is
+    one up to round-off (64 ulps), else 6 significant digits (a label, not data)."""
+    N = float(N)
+    r = round(N)
+    if math.isfinite(N) and abs(r) < 2**53 and abs(N - r) <= 64 * math.ulp(N):
+        return str(int(r))
+    return f"{N:.6g}"
+
+
 def read_csv(path, tool):
     """A fretbem CSV (header row, numbers, `nan` allowed; `#` comment lines skipped) as a dict
     of numpy columns."""

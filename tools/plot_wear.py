@@ -2,10 +2,16 @@
 """Wear plots of a fretbem wear run: centre-line worn depth and pressure at several N, the
 final worn-depth map, worn volume and energy per cycle against N (from DIR/result.h5 and
 DIR/cycles.csv; only the rows with accepted = 1, the integrator's solution, not its stage or
-trial evaluations).
+trial evaluations), and the hysteresis loop F_x - U_x at given N.
 
-usage: tools/plot_wear.py DIR [--out FILE.png]
-Writes FILE.png and FILE.pdf (default DIR/wear.png).
+usage: tools/plot_wear.py DIR [--out FILE.png] [--loop-at N1,N2,...] [--loop-out FILE.png]
+Writes FILE.png and FILE.pdf (default DIR/wear.png), and the loops as LOOP.png and LOOP.pdf
+(default DIR/wear_loops.png). --loop-at picks, for each N, the accepted cycle nearest to it
+(default: the first and the last accepted cycle and one between); its loop is the simulated
+cycle's rows of DIR/timeseries.csv (time in (simulated_cycles - 1.25, simulated_cycles]: the
+steady cycle of that surface, loading to the first turning point, then one period; the
+cycle-by-cycle integrator's rows are one period, time in (simulated_cycles - 1,
+simulated_cycles]), drawn with its energy per cycle.
 """
 import argparse
 import os
@@ -15,16 +21,20 @@ import numpy as np
 
 import fretbem_plot as fp
 
+TOOL = "plot_wear"
+
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("dir")
     ap.add_argument("--out", default=None, help="image file (default DIR/wear.png)")
+    ap.add_argument("--loop-at", default=None, help="cycle counts N1,N2,... of the loops")
+    ap.add_argument("--loop-out", default=None, help="loop figure (default DIR/wear_loops.png)")
     a = ap.parse_args()
     out = a.out or os.path.join(a.dir, "wear.png")
     with h5py.File(os.path.join(a.dir, "result.h5"), "r") as f:
         if "wear" not in f:
-            fp.fail("plot_wear", f"{a.dir} is not a wear run (no /wear in result.h5)")
+            fp.fail(TOOL, f"{a.dir} is not a wear run (no /wear in result.h5)")
         z0 = f["surface/initial"][()]
         snaps = sorted(k for k in f["wear"].keys() if k.startswith("snapshot_"))
         N = [float(f["wear"][s].attrs["time"]) for s in snaps]
@@ -44,8 +54,8 @@ def main():
     cmap = fp.plt.get_cmap("viridis")
     for c, i in enumerate(pick):
         col = cmap(c / max(1, len(pick) - 1))
-        ax[0, 0].plot(x * 1e6, -worn[i][j] * 1e9, color=col, label=f"N = {N[i]:.6g}")
-        ax[0, 1].plot(x * 1e6, pres[i][j] / 1e6, color=col, label=f"N = {N[i]:.6g}")
+        ax[0, 0].plot(x * 1e6, -worn[i][j] * 1e9, color=col, label=f"N = {fp.count(N[i])}")
+        ax[0, 1].plot(x * 1e6, pres[i][j] / 1e6, color=col, label=f"N = {fp.count(N[i])}")
     # The gap's change -W (the indenter's profile change z - z0 when only it wears): on the
     # scale of the indenter it would not be visible.
     ax[0, 0].set(xlabel="x (µm)", ylabel="-W (nm)", title="centre-line worn depth (both bodies)")
@@ -56,7 +66,7 @@ def main():
     ax[1, 0].grid(False)
     im = ax[1, 0].imshow(worn[-1] * 1e9, origin="lower", extent=ext, cmap="magma")
     fig.colorbar(im, ax=ax[1, 0], label="worn depth (nm)")
-    ax[1, 0].set(xlabel="x (µm)", ylabel="y (µm)", title=f"worn depth at N = {N[-1]:.6g}")
+    ax[1, 0].set(xlabel="x (µm)", ylabel="y (µm)", title=f"worn depth at N = {fp.count(N[-1])}")
     ax[1, 1].plot(wear["N"], wear["wear_volume"], ".-", ms=3, label="total")
     if np.any(wear["wear_volume_half_space"] > 0):  # both bodies wear (wear.indenter_share)
         ax[1, 1].plot(wear["N"], wear["wear_volume_indenter"], "--", label="indenter")
@@ -72,6 +82,44 @@ def main():
         if wear["N"].max() > 100:
             axis.set_xscale("symlog", linthresh=1)
     fp.save(fig, out)
+    plot_loops(a, wear)
+
+
+def loop_cycles(spec, N):
+    """Indices of the accepted rows nearest to the wanted counts (default: first, middle, last)."""
+    if spec is None:
+        return sorted({0, len(N) // 2, len(N) - 1})
+    try:
+        wanted = [float(v) for v in spec.split(",")]
+    except ValueError:
+        fp.fail(TOOL, f"--loop-at: '{spec}' is not a list of cycle counts N1,N2,...")
+    out = []
+    for w in wanted:
+        if not N.min() - 0.5 <= w <= N.max() + 0.5:
+            fp.fail(TOOL, f"--loop-at: N = {fp.count(w)} is outside the run's "
+                          f"{fp.count(N.min())}..{fp.count(N.max())}")
+        out.append(int(np.argmin(np.abs(N - w))))
+    return out
+
+
+def plot_loops(a, wear):
+    ts = fp.read_csv(os.path.join(a.dir, "timeseries.csv"), TOOL)
+    # A steady evaluation simulates 1.25 cycles; the cycle integrator's rows one period each.
+    scn = fp.read_scenario(a.dir)
+    span = 1.0 if scn.get("wear.integrator") == "cycle" else 1.25
+    fig, ax = fp.figure(width=3.6, height=3.0)
+    ax = ax[0, 0]
+    pick = loop_cycles(a.loop_at, wear["N"])
+    cmap = fp.plt.get_cmap("viridis")
+    for c, i in enumerate(pick):
+        end = wear["simulated_cycles"][i]
+        rows = (ts["time"] > end - span - 1e-9) & (ts["time"] <= end + 1e-9)
+        col = cmap(c / max(1, len(pick) - 1))
+        label = f"N = {fp.count(wear['N'][i])}: {wear['energy_per_cycle'][i]:.3g} J/cycle"
+        ax.plot(ts["Ux"][rows] * 1e6, ts["Fx"][rows], ".-", ms=3, color=col, label=label)
+    ax.set(xlabel="U$_x$ (µm)", ylabel="F$_x$ (N)", title="hysteresis loop at N")
+    ax.legend(fontsize=7)
+    fp.save(fig, a.loop_out or os.path.join(a.dir, "wear_loops.png"))
 
 
 if __name__ == "__main__":

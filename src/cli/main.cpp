@@ -16,6 +16,7 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/history/check_report.hpp"
+#include "fretbem/history/cost_estimate.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/resolution.hpp"
 #include "fretbem/history/stepper.hpp"
@@ -30,6 +31,7 @@
 #include "fretbem/study/ensemble.hpp"
 #include "fretbem/study/sweep.hpp"
 #include "fretbem/surface/surface.hpp"
+#include "fretbem/wear/cost_estimate.hpp"
 #include "fretbem/wear/integrator.hpp"
 
 namespace po = boost::program_options;
@@ -47,7 +49,8 @@ constexpr const char* kUsage =
     "  run options: --stop-after N  run at most N steps, checkpoint, exit (resume later);\n"
     "               wear runs: N simulated cycles (wear.integrator = cycle) or accepted\n"
     "               integrator steps (ARKODE)\n"
-    "  fretbem check SCENARIO.ini [--set section.key=value ...]\n"
+    "  fretbem check SCENARIO.ini [--set section.key=value ...] [--no-estimate]\n"
+    "              (the cost estimate solves the first steps; --no-estimate skips it)\n"
     "  fretbem surface [SCENARIO.ini] [--set surface.key=value ...] --out FILE\n"
     "  fretbem ensemble SCENARIO.ini --hurst H1,H2,... [--seeds N] [--jobs J] [--bins B]\n"
     "                   [--set section.key=value ...] [--out DIR] [--overwrite] [--quiet]\n"
@@ -70,6 +73,7 @@ struct Args {
   bool quiet = false;
   bool overwrite = false;
   bool out_given = false;
+  bool estimate = true;                  // check: calibrate and print the cost estimate
   std::string hurst;                     // ensemble
   int seeds = 20, jobs = 0, bins = 20;   // ensemble (jobs also sweep)
   bool list = false, aggregate = false;  // sweep
@@ -83,7 +87,8 @@ Args parse_args(int argc, char** argv) {
       "resume", po::value<std::string>(), "")("stop-after", po::value<long>(), "")(
       "hurst", po::value<std::string>(), "")("seeds", po::value<int>(), "")(
       "jobs", po::value<int>(), "")("bins", po::value<int>(), "")("list", "")("aggregate", "")(
-      "member", po::value<long>(), "")("positional", po::value<std::vector<std::string>>(), "");
+      "no-estimate", "")("member", po::value<long>(), "")(
+      "positional", po::value<std::vector<std::string>>(), "");
   po::positional_options_description pos;
   pos.add("positional", -1);
   po::variables_map vm;
@@ -98,6 +103,7 @@ Args parse_args(int argc, char** argv) {
   }
   a.overwrite = vm.count("overwrite") > 0;
   a.quiet = vm.count("quiet") > 0;
+  a.estimate = vm.count("no-estimate") == 0;
   if (vm.count("resume")) a.resume = vm["resume"].as<std::string>();
   if (vm.count("stop-after")) {
     a.stop_after = vm["stop-after"].as<long>();
@@ -264,6 +270,18 @@ int cmd_check(const Args& a) {
   // Resolution and domain predicted from Hertz for spheres (issues 17 §3, 18).
   if (const auto p = predict_sphere(sc, model->path))
     for (const auto& line : describe(*p, sc)) std::printf("  %s\n", line.c_str());
+  if (!a.estimate) return 0;
+  std::fflush(stdout);  // the report stands while the calibration solves
+  // A refusal met by the first solves (edge contact, above) is the run's to report: check
+  // keeps its verdict and says why there is no estimate.
+  try {
+    if (sc.wear.law == WearLaw::none)
+      std::fputs(describe(estimate_run_cost(sc), model->path.steps.size()).c_str(), stdout);
+    else
+      std::fputs(describe(estimate_wear_cost(sc), sc.wear).c_str(), stdout);
+  } catch (const InputError& e) {
+    std::printf("  cost: not estimated (%s)\n", e.what());
+  }
   return 0;
 }
 

@@ -63,9 +63,8 @@ void wear_lines(const Model& m, std::ostringstream& o) {
   const WearSpec& w = m.scenario.wear;
   if (w.law == WearLaw::none) return;
   o << "  wear: " << num(w.cycles)
-    << " load cycles (wear.cycles); wear runs ignore load.cycles. The explicit stability cap\n"
-    << "        1/(k s_max K_max) needs the first cycle's slip: `fretbem run` prints it, and\n"
-    << "        wear.integrator = arkode picks erk or dirk from it (docs/wear.md)\n";
+    << " load cycles (wear.cycles); wear runs ignore load.cycles and simulate the first\n"
+    << "        period of the load path (docs/wear.md)\n";
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/format.hpp"
 #include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/csv_writer.hpp"
 #include "fretbem/io/run_output.hpp"
@@ -47,10 +48,13 @@ class WearFiles final : public WearLog {
   }
   void cycle(const WearCycle& c) override {
     const double s = model_.scenario.wear.indenter_share;
-    csv_.row({c.N, c.energy, c.wear_volume, c.max_depth, c.contact_radius, c.stick_area,
+    // N is the count a cycle stands for: integral in cycle mode and stretches (summed ones),
+    // where round-off must not print 2.9999999999999996 (format_count).
+    csv_.row({snap_count(c.N), c.energy, c.wear_volume, c.max_depth, c.contact_radius, c.stick_area,
               c.peak_pressure, c.delta, c.max_slip, c.simulated, c.accepted ? 1.0 : 0.0,
               s * c.wear_volume, (1.0 - s) * c.wear_volume});
     ++rows_;
+    if (c.accepted) last_accepted_ = {snap_count(c.N), c.energy};
     progress(c.N, c.simulated);
   }
   // The total worn depth (what the gap sees) and each body's share of it.
@@ -69,14 +73,15 @@ class WearFiles final : public WearLog {
   }
   void done() { progress_.finish(); }
   const std::filesystem::path& path() const { return csv_.path(); }
+  /// N and energy_per_cycle (J) of the last accepted cycles.csv row (none yet: N < 0).
+  std::pair<double, double> last_accepted() const { return last_accepted_; }
 
  private:
   void progress(double N, double simulated) {
     const double total = model_.scenario.wear.cycles;
-    char where[128];
-    std::snprintf(where, sizeof where, "wear: N %.6g / %.6g  simulated cycles %g", N, total,
-                  simulated);
-    progress_.update(where, N / total);
+    progress_.update("wear: N " + format_count(N) + " / " + format_count(total) +
+                         "  simulated cycles " + format_count(simulated),
+                     N / total);
   }
   const Model& model_;
   const Stepper& stepper_;
@@ -85,6 +90,7 @@ class WearFiles final : public WearLog {
   ProgressReporter progress_;
   long rows_ = 0;
   std::int64_t snapshots_ = 0;
+  std::pair<double, double> last_accepted_{-1.0, 0.0};
 };
 
 }  // namespace
@@ -108,8 +114,9 @@ WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume, long max
   WearReport rep = integrate_wear(model, sim, &log, at, max_steps);
   log.done();
   if (rep.stopped) {
-    std::printf("fretbem: stopped at N = %.6g of %.6g; continue with: fretbem run --resume %s\n",
-                rep.N, model.scenario.wear.cycles, dir.string().c_str());
+    std::printf("fretbem: stopped at N = %s of %s; continue with: fretbem run --resume %s\n",
+                format_count(rep.N).c_str(), format_count(model.scenario.wear.cycles).c_str(),
+                dir.string().c_str());
     return rep;
   }
   h5.on_finish(stepper.state(), model);
@@ -125,25 +132,29 @@ WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume, long max
         "fretbem: implicit wear steps: %ld Newton iterations (%ld convergence failures), %ld "
         "Krylov iterations, %ld inner CG iterations\n",
         rep.newton_iterations, rep.newton_failures, rep.krylov_iterations, rep.inner_iterations);
-  if (!quiet) {
+  // The summary is printed with --quiet too: it silences progress, not results (issue 19).
+  {
     const double V = rep.worn.sum() * model.scenario.grid.cell_area();
     const double s = model.scenario.wear.indenter_share;
     const bool cycles = rep.cycle_by_cycle;
-    std::printf("fretbem: wear to N = %.6g with %.6g simulated cycles (%d wear-map evaluations",
-                rep.N, rep.simulated_cycles, rep.rhs_evaluations);
+    std::printf("fretbem: wear to N = %s with %s simulated cycles (%d wear-map evaluations",
+                format_count(rep.N).c_str(), format_count(rep.simulated_cycles).c_str(),
+                rep.rhs_evaluations);
     if (cycles)
       std::printf(", cycle by cycle)\n");
     else
       std::printf(
-          "; %ld %s steps, %ld error-test failures, %ld Newton failures; %ld stretches of %.6g "
+          "; %ld %s steps, %ld error-test failures, %ld Newton failures; %ld stretches of %s "
           "cycles simulated one by one)\n",
           rep.steps, rep.implicit ? "implicit (TR-BDF2)" : "explicit (ERK)", rep.rejected,
-          rep.newton_failures, rep.stretches, rep.stretch_cycles);
-    std::printf(
-        "  worn volume: %.6g m^3 (indenter %.6g, half-space %.6g)\n  cycles:      %s\n  time "
-        "series: %s\n  fields:      %s\n",
-        V, s * V, (1.0 - s) * V, log.path().string().c_str(), csv.path().string().c_str(),
-        h5.path().string().c_str());
+          rep.newton_failures, rep.stretches, format_count(rep.stretch_cycles).c_str());
+    std::printf("  worn volume: %.6g m^3 (indenter %.6g, half-space %.6g)\n", V, s * V,
+                (1.0 - s) * V);
+    if (const auto [N, energy] = log.last_accepted(); N >= 0.0)
+      std::printf("  energy per cycle: %.6g J (at N = %s)\n", energy, format_count(N).c_str());
+    std::printf("  cycles:      %s\n  time series: %s\n  fields:      %s\n",
+                log.path().string().c_str(), csv.path().string().c_str(),
+                h5.path().string().c_str());
   }
   return rep;
 }

@@ -392,12 +392,6 @@ void flush_step(WearReport& rep, std::size_t first, WearLog* log, double t0, std
   }
 }
 
-// wear.integrator = arkode: the explicit method while the run is short against its stability
-// cap, the implicit one past it. Measured (docs/wear.md, simulated cycles erk vs dirk):
-// N_end / cap = 9 (n = 32, 500 cycles): 86 vs 178; 16 (n = 64, 1e4): 90 vs 144; 360 (n = 32,
-// 2e4): 1620 vs 494; 1600 (n = 64, 1e6): 2410 vs 594. Interpolated crossovers: ~40 and ~100.
-constexpr double kImplicitPastCaps = 50.0;
-
 // The absolute tolerance on W (m): wear.atol when given (expert override), else rtol times the
 // indentation of the unworn surface. A fixed metre value carried over from another scenario
 // let nodes that just came into contact (W ~ 1e-10 m) set the step: 5757 simulated cycles to

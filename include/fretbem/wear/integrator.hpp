@@ -171,6 +171,13 @@ class WearCycles {
 WearReport integrate_wear(Model& model, WearCycles& cycles, WearLog* log,
                           const WearCheckpoint* resume = nullptr, long max_steps = -1);
 
+/// wear.integrator = arkode: the explicit method while the run is short against its stability
+/// cap, the implicit one past it (wear.cycles > kImplicitPastCaps x cap). Measured
+/// (docs/wear.md, simulated cycles erk vs dirk): N_end / cap = 9 (n = 32, 500 cycles): 86 vs
+/// 178; 16 (n = 64, 1e4): 90 vs 144; 360 (n = 32, 2e4): 1620 vs 494; 1600 (n = 64, 1e6): 2410
+/// vs 594. Interpolated crossovers: ~40 and ~100.
+inline constexpr double kImplicitPastCaps = 50.0;
+
 /// Stability cap on the cycle step of an explicit integrator: 1 / (k_eq s_max K_max),
 /// K_max = 1.7 E*/h the largest eigenvalue of the normal influence matrix (issue 6).
 double explicit_step_cap(const Model& model, double max_slip);

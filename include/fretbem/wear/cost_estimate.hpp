@@ -1,0 +1,30 @@
+// What a wear run will cost, before it runs (`fretbem check`, issue 19): the first steady
+// cycle of the unworn surface is simulated at the scenario's grid; its largest slip gives the
+// explicit stability cap, its FFT convolutions and wall time the cost of one simulated cycle.
+#pragma once
+
+#include <string>
+
+#include "fretbem/scenario/scenario.hpp"
+
+namespace fretbem {
+
+struct WearCostEstimate {
+  double cap = 0.0;       ///< explicit stability cap 1 / (k_eq s_max K_max) (cycles per step)
+  bool implicit = false;  ///< the integrator that runs is the implicit one (dirk)
+  /// Expected simulated cycles, a range: cycle mode N exactly; erk at least 2.5 per capped
+  /// step (two wear-map evaluations of 1.25 cycles), at most N + 1 (the cost guard); dirk at
+  /// most N + 1, the lower end from the measured runs of docs/wear.md.
+  double simulated_low = 0.0, simulated_high = 0.0;
+  double convolutions_per_cycle = 0.0;  ///< FFT convolutions per simulated cycle
+  double seconds_per_cycle = 0.0;       ///< wall seconds per simulated cycle
+  double calibration_seconds = 0.0;     ///< wall time of the calibration, operators built (s)
+};
+
+/// Builds the model, simulates the steady cycle of the unworn surface; writes no file.
+WearCostEstimate estimate_wear_cost(const Scenario& sc);
+
+/// The report lines of `fretbem check`, each ending in '\n'.
+std::string describe(const WearCostEstimate& e, const WearSpec& wear);
+
+}  // namespace fretbem
