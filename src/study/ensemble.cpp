@@ -14,6 +14,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <thread>
 
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
