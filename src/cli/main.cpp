@@ -281,6 +281,10 @@ int cmd_check(const Args& a) {
       std::fputs(describe(estimate_wear_cost(sc), sc.wear).c_str(), stdout);
   } catch (const InputError& e) {
     std::printf("  cost: not estimated (%s)\n", e.what());
+  } catch (const SolverError& e) {
+    // The inputs are valid, so check's verdict stands; the failure the run will meet is said.
+    std::printf("  cost: not estimated (the calibration solve failed)\n");
+    std::fprintf(stderr, "fretbem: warning: the calibration solve failed: %s\n", e.what());
   }
   return 0;
 }
