@@ -15,6 +15,7 @@
 #include "fretbem/elastic/love.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
+#include "support/hertz.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -60,12 +61,7 @@ struct Recorder : Observer {
 };
 
 Recorder run(const std::string& text) {
-  const Scenario sc = parse_scenario(text, "test", fs::temp_directory_path());
-  auto model = build_model(sc);
-  Stepper stepper(*model);
-  Recorder rec;
-  stepper.run({&rec});
-  return rec;
+  return fretbem_test::run_recorded<Recorder>(text);
 }
 
 // Sphere R = 1 on a unit domain; F_z chosen for a = 0.25 under Hertz with E* of the pair.
@@ -383,9 +379,10 @@ TEST(Coupling, NormalLoadingConvergesUnderRefinement) {
     const Recorder o = run(sphere(n, kRigidOnSoft, load, "coupling = cerruti"));
     shear.push_back(radial_shear(r.last) / 0.0229);
     approach.push_back(r.rows[0].delta / o.rows[0].delta - 1);
-    std::printf("n = %2d: radial shear / F_z = %.5f, delta / delta_uncoupled - 1 = %+.5f, "
-                "%d alternations\n",
-                n, shear.back(), approach.back(), r.rows[0].coupling_iterations);
+    std::printf(
+        "n = %2d: radial shear / F_z = %.5f, delta / delta_uncoupled - 1 = %+.5f, "
+        "%d alternations\n",
+        n, shear.back(), approach.back(), r.rows[0].coupling_iterations);
   }
   EXPECT_LT(std::abs(shear[2] - shear[1]), 0.7 * std::abs(shear[1] - shear[0]));
   EXPECT_LT(std::abs(approach[2] - approach[1]), 0.7 * std::abs(approach[1] - approach[0]));

@@ -43,12 +43,7 @@ struct Recorder : Observer {
 };
 
 Recorder run(const std::string& text) {
-  const Scenario sc = parse_scenario(text, "test", fs::temp_directory_path());
-  auto model = build_model(sc);
-  Stepper stepper(*model);
-  Recorder rec;
-  stepper.run({&rec});
-  return rec;
+  return fretbem_test::run_recorded<Recorder>(text);
 }
 
 using fretbem_test::cycle_energy;

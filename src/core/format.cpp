@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 
 namespace fretbem {
 
@@ -25,6 +26,12 @@ std::string format_count(double N) {
   char buf[32];
   const auto end = std::to_chars(buf, buf + sizeof buf, static_cast<long long>(r)).ptr;
   return std::string(buf, end);
+}
+
+std::string format_printf(const char* fmt, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, v);
+  return buf;
 }
 
 }  // namespace fretbem

@@ -221,12 +221,17 @@ struct Engine {
     store(out, s.scale * factor);
   }
 
-  // (ux, uy) = [sxx sxy; sxy syy] * (tx, ty): the Cerruti pair, two transforms each way.
-  void convolve_pair(const Field& tx, const Field& ty, Field& ux, Field& uy, int nx, int ny) {
+  // c1 = F[tx], c2 = F[ty]: the forward half of every product of a traction pair.
+  void forward_pair(const Field& tx, const Field& ty) {
     load(tx);
     r2c(c1.get());
     load(ty);
     r2c(c2.get());
+  }
+
+  // (ux, uy) = [sxx sxy; sxy syy] * (tx, ty): the Cerruti pair, two transforms each way.
+  void convolve_pair(const Field& tx, const Field& ty, Field& ux, Field& uy, int nx, int ny) {
+    forward_pair(tx, ty);
     const std::size_t ns = std::size_t(n0) * nc;
     for (std::size_t k = 0; k < ns; ++k) {
       for (int c = 0; c < 2; ++c) {
@@ -245,10 +250,7 @@ struct Engine {
 
   // uz = F^-1[i (szx F[tx] + szy F[ty])]: the normal approach of tractions (three transforms).
   void convolve_cross_normal(const Field& tx, const Field& ty, Field& uz, int nx, int ny) {
-    load(tx);
-    r2c(c1.get());
-    load(ty);
-    r2c(c2.get());
+    forward_pair(tx, ty);
     const std::size_t ns = std::size_t(n0) * nc;
     for (std::size_t k = 0; k < ns; ++k) {
       const Real re = szx.v[k] * c1[k][0] + szy.v[k] * c2[k][0];

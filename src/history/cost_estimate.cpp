@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cstdio>
 
+#include "fretbem/core/format.hpp"
+#include "fretbem/core/progress.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
 
@@ -13,14 +15,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
 std::string num(double v, const char* fmt = "%.2g") {
-  char b[32];
-  std::snprintf(b, sizeof b, fmt, v);
-  return b;
+  return format_printf(fmt, v);
 }
 
 }  // namespace
@@ -36,7 +32,7 @@ RunCostEstimate estimate_run_cost(const Scenario& sc) {
   auto timed = [&](std::size_t k) {
     const auto t = Clock::now();
     const StepRecord r = stepper.advance(k);
-    solve_seconds += since(t);
+    solve_seconds += seconds_since(t);
     convolutions += r.convolutions;
     return double(r.convolutions);
   };
@@ -44,7 +40,7 @@ RunCostEstimate estimate_run_cost(const Scenario& sc) {
   std::size_t k = 1;
   for (; k < steps && int(k) <= kCalibrationSteps; ++k) {
     tangential += timed(k);
-    if (since(t0) > kCalibrationSeconds) {
+    if (seconds_since(t0) > kCalibrationSeconds) {
       ++k;
       break;
     }
@@ -54,7 +50,7 @@ RunCostEstimate estimate_run_cost(const Scenario& sc) {
   const double per_step = calibrated > 0 ? tangential / double(calibrated) : 0.0;
   e.convolutions = step0 + tangential + per_step * double(steps - k);
   e.seconds = convolutions > 0 ? e.convolutions * solve_seconds / convolutions : solve_seconds;
-  e.calibration_seconds = since(t0);
+  e.calibration_seconds = seconds_since(t0);
   return e;
 }
 

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "fretbem/core/format.hpp"
+#include "fretbem/core/progress.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/wear/integrator.hpp"
 
@@ -15,14 +17,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
 std::string num(double v, const char* fmt = "%.3g") {
-  char b[32];
-  std::snprintf(b, sizeof b, fmt, v);
-  return b;
+  return format_printf(fmt, v);
 }
 
 // Simulated cycles of the steady cycle (the ODE right-hand side): to the first turning point
@@ -45,7 +41,7 @@ WearCostEstimate estimate_wear_cost(const Scenario& sc) {
   cycles.start();
   const WearCycle c0 =
       cycles.steady(0.0, Field::Zero(model->scenario.grid.nx, model->scenario.grid.ny));
-  const double seconds = since(t1);
+  const double seconds = seconds_since(t1);
   const double conv = double(model->half_space->convolutions() - conv0);
   e.convolutions_per_cycle = conv / cycles.simulated();
   e.seconds_per_cycle = seconds / cycles.simulated();
@@ -64,7 +60,7 @@ WearCostEstimate estimate_wear_cost(const Scenario& sc) {
     e.simulated_low =
         std::min(e.simulated_high, kCyclesPerEvaluation * (1.0 + 2.0 * std::ceil(N / e.cap)));
   }
-  e.calibration_seconds = since(t0);
+  e.calibration_seconds = seconds_since(t0);
   return e;
 }
 

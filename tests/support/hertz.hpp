@@ -60,6 +60,16 @@ struct StepRecorder : Observer {
 };
 
 /// Runs a scenario to its end (outputs under the temporary folder), every step's record.
+/// Runs a scenario text to its end with one observer of type R (a test's own recorder).
+template <class R>
+R run_recorded(const std::string& text) {
+  auto model = build_model(parse_scenario(text, "test", std::filesystem::temp_directory_path()));
+  Stepper stepper(*model);
+  R rec;
+  stepper.run({&rec});
+  return rec;
+}
+
 inline std::vector<StepRecord> run_steps(const Scenario& sc) {
   auto model = build_model(sc);
   Stepper stepper(*model);

@@ -18,4 +18,7 @@ std::string format_count(double N);
 double snap_count(double N);
 inline constexpr double kCountUlps = 64.0;
 
+/// v through a printf conversion for one double ("%.2g"): report lines with a chosen precision.
+std::string format_printf(const char* fmt, double v);
+
 }  // namespace fretbem

@@ -7,6 +7,11 @@
 
 namespace fretbem {
 
+/// Seconds elapsed on the steady clock since t0.
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 /// Reports where a run stands, with elapsed time and an ETA. On a terminal one line is
 /// rewritten in place ('\r'), at most every `tty_interval` seconds; anywhere else (a file, a
 /// Slurm log, a pipe) a plain line is written every `log_interval` seconds, so a log holds a
