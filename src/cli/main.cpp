@@ -265,7 +265,7 @@ int cmd_check(const Args& a) {
                 sc.grid.ny, model->path.steps.size());
   else
     std::printf("%s: ok (%d x %d grid, wear run of %s cycles)\n", a.scenario.c_str(), sc.grid.nx,
-                sc.grid.ny, format_number(sc.wear.cycles).c_str());
+                sc.grid.ny, format_count(sc.wear.cycles).c_str());
   std::fputs(check_report(*model).c_str(), stdout);
   // Resolution and domain predicted from Hertz for spheres (issues 17 §3, 18).
   if (const auto p = predict_sphere(sc, model->path))

@@ -95,7 +95,7 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
 // run) and hand the inputs to the caller, which writes them to DIR/failed_solve.h5.
 void Stepper::fail(const StepRecord& rec, const SolverError& e, FailedSolve f) const {
   std::string where = "step " + std::to_string(rec.step) + ", cycle " + std::to_string(rec.cycle);
-  if (wear_cycle_ >= 0.0) where = "wear cycle N = " + format_number(wear_cycle_) + ", " + where;
+  if (wear_cycle_ >= 0.0) where = "wear cycle N = " + format_count(wear_cycle_) + ", " + where;
   f.scenario = model_.scenario.resolved_text;
   throw IncrementFailure(where + ": " + e.what(), std::move(f), model_.scenario.output.dir);
 }

@@ -9,6 +9,7 @@
 
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/format.hpp"
 #include "fretbem/core/hdf5.hpp"
 #include "fretbem/io/hdf5_writer.hpp"
 
@@ -47,7 +48,7 @@ void check_wear(const fs::path& file, const WearCheckpoint& w, const Model& m) {
   check_field(file, "wear_worn", w.worn, m.scenario.grid);
   check_scalar(file, "wear N", w.N);
   if (w.N < 0 || w.N > m.scenario.wear.cycles)
-    refuse(file, "wear N = " + std::to_string(w.N) + " outside [0, wear.cycles]");
+    refuse(file, "wear N = " + format_count(w.N) + " outside [0, wear.cycles]");
   check_scalar(file, "wear h_next", w.h_next);
   if (std::isnan(w.h_max) || w.h_max <= 0 || w.h_next < 0)
     refuse(file, "wear step sizes out of range");

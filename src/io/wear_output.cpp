@@ -1,6 +1,7 @@
 // `fretbem run` for scenarios with a wear law: the wear outputs and checkpoints around
 // integrate_wear.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include "fretbem/core/errors.hpp"
@@ -13,6 +14,13 @@
 namespace fretbem {
 
 namespace {
+
+// Simulated cycles are sums of fractions of a period (a steady cycle counts 1.2 at one step
+// per ramp step): printed to 1e-6 cycles so summation round-off ("67.80000000000007") does not
+// show; whole counts as integers.
+std::string simulated_count(double simulated) {
+  return format_count(std::round(simulated * 1e6) / 1e6);
+}
 
 // DIR/cycles.csv of a wear run: one row per simulated cycle (issue 6), then the bookkeeping
 // columns; the per-body volumes split wear_volume by wear.indenter_share.
@@ -80,7 +88,7 @@ class WearFiles final : public WearLog {
   void progress(double N, double simulated) {
     const double total = model_.scenario.wear.cycles;
     progress_.update("wear: N " + format_count(N) + " / " + format_count(total) +
-                         "  simulated cycles " + format_count(simulated),
+                         "  simulated cycles " + simulated_count(simulated),
                      N / total);
   }
   const Model& model_;
@@ -138,7 +146,7 @@ WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume, long max
     const double s = model.scenario.wear.indenter_share;
     const bool cycles = rep.cycle_by_cycle;
     std::printf("fretbem: wear to N = %s with %s simulated cycles (%d wear-map evaluations",
-                format_count(rep.N).c_str(), format_count(rep.simulated_cycles).c_str(),
+                format_count(rep.N).c_str(), simulated_count(rep.simulated_cycles).c_str(),
                 rep.rhs_evaluations);
     if (cycles)
       std::printf(", cycle by cycle)\n");

@@ -303,7 +303,7 @@ void check(int flag, const char* what, double N = -1.0) {
   if (flag >= 0) return;
   char* name = ARKStepGetReturnFlagName(flag);  // malloc'ed by SUNDIALS
   std::string msg = std::string("wear integrator (ARKODE): ") + what + " failed";
-  if (N >= 0.0) msg += " at wear cycle N = " + format_number(N);
+  if (N >= 0.0) msg += " at wear cycle N = " + format_count(N);
   msg += std::string(": ") + (name ? name : "unknown flag") + " (flag " + std::to_string(flag) +
          "); check wear.coefficient and wear.cycles, or try wear.integrator = cycle or other "
          "wear.rtol / wear.atol";
