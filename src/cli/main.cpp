@@ -201,6 +201,10 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
   return 0;
 }
 
+void warn_if_any(const std::string& warning) {
+  if (!warning.empty()) std::fprintf(stderr, "fretbem: %s\n", warning.c_str());
+}
+
 // Resume: the checkpoint is validated against the scenario it carries, and the outputs in
 // DIR against the checkpoint (run id, row counts), before anything is written.
 int resume_run(const Args& a) {
@@ -222,17 +226,20 @@ int resume_run(const Args& a) {
   model->run_id = cp.run_id;
   if (model->wear) {
     if (!cp.wear) throw InputError((dir / "checkpoint.h5").string() + ": not a wear run's");
-    check_resume_outputs(dir, cp.run_id, std::size_t(cp.wear->counters.rows));
+    warn_if_any(prepare_result_for_resume(
+        dir, *model, cp.run_id,
+        {.rows = std::size_t(cp.wear->counters.rows),
+         .field_steps = std::int64_t(model->path.steps.size()),  // rewritten every cycle
+         .snapshots = cp.wear->snapshots}));
     run_wear(*model, a.quiet, &cp, a.stop_after);
     return 0;
   }
   if (cp.wear)
     throw InputError((dir / "checkpoint.h5").string() + ": a wear run's, but no wear.law");
-  // A result.h5 torn by a kill during a flush is rebuilt from timeseries.csv (issue 14).
-  if (result_file_torn(dir))
-    std::fprintf(stderr, "fretbem: %s\n",
-                 rebuild_result_file(dir, *model, cp.memory.next_step).c_str());
-  check_resume_outputs(dir, cp.run_id, cp.memory.next_step);
+  // Never written in place: a kill may have torn it (result_recovery.hpp, issue 14).
+  const auto done = std::int64_t(cp.memory.next_step);
+  warn_if_any(prepare_result_for_resume(dir, *model, cp.run_id,
+                                        {.rows = cp.memory.next_step, .field_steps = done}));
   model->surface = cp.surface;
   Stepper stepper(*model);
   stepper.restore(cp.state, cp.memory);

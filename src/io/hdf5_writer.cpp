@@ -63,6 +63,7 @@ struct Hdf5Writer::Impl {
   void write_columns_attribute(hid_t dataset, const char* name,
                                const std::vector<std::string>& values) const;
   void open_timeseries();
+  void copy_step_group(hid_t source, const std::string& name) const;
 };
 
 bool Hdf5Writer::Impl::exists(const std::string& name) const {
@@ -162,6 +163,46 @@ void Hdf5Writer::Impl::open_timeseries() {
   }
 }
 
+namespace {
+
+template <typename T>
+T read_scalar_attribute(hid_t loc, const char* name, hid_t mem_type) {
+  AttrH a(H5Aopen(loc, name, H5P_DEFAULT));
+  T value{};
+  if (!a.valid() || H5Aread(a.get(), mem_type, &value) < 0)
+    throw std::runtime_error(std::string("attribute ") + name + " unreadable");
+  return value;
+}
+
+}  // namespace
+
+void Hdf5Writer::Impl::copy_step_group(hid_t source, const std::string& name) const {
+  GroupH from(check(H5Gopen2(source, name.c_str(), H5P_DEFAULT), "open " + name));
+  const auto step = read_scalar_attribute<std::int64_t>(from.get(), "step", H5T_NATIVE_INT64);
+  const auto time = read_scalar_attribute<double>(from.get(), "time", H5T_NATIVE_DOUBLE);
+  const std::vector<std::string> fields = hdf5::link_names(from.get());
+  remove_if_exists(name);
+  const PlistH lcpl = link_plist();
+  GroupH to(check(H5Gcreate2(file.get(), name.c_str(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
+                  "create group " + name));
+  write_attribute(to.get(), "step", H5T_STD_I64LE, H5T_NATIVE_INT64, &step);
+  write_attribute(to.get(), "time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &time);
+  // Attributes are not copied: the dimension-scale references point into the source file;
+  // describe_field writes units and names and attaches this file's /x and /y.
+  PlistH ocpl(check(H5Pcreate(H5P_OBJECT_COPY), "create a property list"));
+  check(H5Pset_copy_object(ocpl.get(), H5O_COPY_WITHOUT_ATTR_FLAG), "set up the copy");
+  for (const auto& f : fields) {
+    check(H5Ocopy(from.get(), f.c_str(), to.get(), f.c_str(), ocpl.get(), H5P_DEFAULT),
+          "copy " + name + "/" + f);
+    DatasetH d(check(H5Dopen2(to.get(), f.c_str(), H5P_DEFAULT), "open " + name + "/" + f));
+    SpaceH space(check(H5Dget_space(d.get()), "read " + name + "/" + f));
+    std::vector<double> values(std::size_t(H5Sget_simple_extent_npoints(space.get())));
+    check(H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
+          "read back " + name + "/" + f);
+    describe_field(file.get(), d.get(), f, path.string());
+  }
+}
+
 Hdf5Writer::Hdf5Writer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
 Hdf5Writer::Hdf5Writer(const fs::path& dir, const std::string& name)
@@ -237,6 +278,24 @@ void Hdf5Writer::write_step_fields(std::int64_t step, double time,
   impl_->write_attribute(g.get(), "time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &time);
   for (const auto& [field_name, field] : fields) impl_->write_field(g.get(), field_name, field);
   impl_->flush();
+}
+
+std::vector<std::string> Hdf5Writer::copy_step_groups(const fs::path& source,
+                                                      const std::vector<std::string>& groups) {
+  std::vector<std::string> failed;
+  FileH src(H5Fopen(source.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
+  for (const auto& g : groups) {
+    try {
+      if (!src.valid()) throw std::runtime_error("cannot open the source");
+      impl_->copy_step_group(src.get(), g);
+    } catch (const std::exception&) {
+      hdf5::last_error();                                    // clears the stack
+      H5Ldelete(impl_->file.get(), g.c_str(), H5P_DEFAULT);  // a partial copy is not kept
+      failed.push_back(g);
+    }
+  }
+  impl_->flush();
+  return failed;
 }
 
 void Hdf5Writer::start_timeseries(const std::vector<std::string>& columns) {

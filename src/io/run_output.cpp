@@ -85,17 +85,22 @@ void TimeseriesCsv::on_step(const StepRecord& rec, const InterfaceState&, const 
   csv_.row(rec.values());
 }
 
+void write_result_header(io::Hdf5Writer& h5, const Model& m) {
+  h5.describe(m.scenario.grid, m.scenario.output.dir);
+  h5.write_text("/run_id", m.run_id);
+  h5.write_text("/scenario", m.scenario.resolved_text);
+  h5.write_field("/surface/initial", m.surface0);
+  h5.start_timeseries(StepRecord::columns());
+}
+
 ResultFile::ResultFile(const std::filesystem::path& dir, const Model& m, long resume_rows)
     : h5_(resume_rows >= 0 ? io::Hdf5Writer::open_existing(dir) : io::Hdf5Writer(dir)) {
-  h5_.describe(m.scenario.grid, m.scenario.output.dir);
-  if (resume_rows >= 0) {
-    h5_.truncate_timeseries(std::size_t(resume_rows));
+  if (resume_rows < 0) {
+    write_result_header(h5_, m);
     return;
   }
-  h5_.write_text("/run_id", m.run_id);
-  h5_.write_text("/scenario", m.scenario.resolved_text);
-  h5_.write_field("/surface/initial", m.surface0);
-  h5_.start_timeseries(StepRecord::columns());
+  h5_.describe(m.scenario.grid, m.scenario.output.dir);
+  h5_.truncate_timeseries(std::size_t(resume_rows));
 }
 
 void ResultFile::on_step(const StepRecord& rec, const InterfaceState& s, const Model& m) {

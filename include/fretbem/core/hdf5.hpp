@@ -6,6 +6,7 @@
 #include <hdf5.h>
 
 #include <string>
+#include <vector>
 
 namespace fretbem::hdf5 {
 
@@ -63,6 +64,10 @@ class Quiet {
 /// Switches HDF5's own error printing off for the rest of the process (writers that keep a
 /// file open across many calls; readers use Quiet).
 void silence();
+
+/// The names of the links in a group (or file root), by name; throws std::runtime_error if
+/// the group cannot be listed.
+std::vector<std::string> link_names(hid_t group);
 
 /// The most specific message on the HDF5 error stack, which is then cleared.
 std::string last_error();

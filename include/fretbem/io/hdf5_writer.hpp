@@ -54,6 +54,13 @@ class Hdf5Writer {
   void write_step_fields(std::int64_t step, double time, const std::map<std::string, Field>& fields,
                          const std::string& prefix = "/fields/step_");
 
+  /// Copies these groups of write_step_fields' layout (attributes step and time, one field
+  /// per dataset) from the HDF5 file `source`, raw chunks as they are, then reads every copied
+  /// field back so a torn chunk is found now; such a group is left out. Returns the groups
+  /// that could not be copied (resume from a file torn by a kill: result_recovery.hpp).
+  std::vector<std::string> copy_step_groups(const std::filesystem::path& source,
+                                            const std::vector<std::string>& groups);
+
   /// Creates /timeseries with these column names (replacing an old one). Needed once before
   /// append_row, unless open_existing found a time series.
   void start_timeseries(const std::vector<std::string>& columns);

@@ -44,6 +44,10 @@ class ResultFile final : public Observer {
   io::Hdf5Writer h5_;
 };
 
+/// What a fresh result file starts with: its self-description, /run_id, /scenario (resolved),
+/// /surface/initial and an empty /timeseries of StepRecord's columns.
+void write_result_header(io::Hdf5Writer& h5, const Model& model);
+
 /// DIR/cycles.csv: per load cycle (period 1 in time) the energy dissipated (nodal sums), the
 /// loop area of the F-U path (trapezoid rule, x and y), force and shift amplitudes, k_x and the
 /// slip area at the cycle's turning points, and the resolution there (slip-ring width in cells,
