@@ -217,6 +217,38 @@ TEST_F(Faults, KillAtRandomPointsResumes) {
   }
 }
 
+// SIGTERM (Slurm at a time limit) and SIGINT (Ctrl-C) stop a run at the next step with its
+// checkpoint written: exit 128 + signal, one line on stderr saying how to continue, and
+// --resume gives the uninterrupted run's rows.
+TEST_F(Faults, SignalStopsRunWithCheckpoint) {
+  const fs::path ref = full();
+  for (const int sig : {SIGTERM, SIGINT}) {
+    const fs::path part = dir_ / ("signal" + std::to_string(sig)), err = dir_ / "signal.err";
+    const pid_t pid = fork();
+    if (pid == 0) {
+      const std::string cmd = "exec " + kBin + " run " + kScenario + kQuick + " --out " +
+                              part.string() + " > /dev/null 2> " + err.string();
+      execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    for (int i = 0; i < 4000 && rows_of(part / "timeseries.csv").size() < 40; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    kill(pid, sig);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+    const std::string text = slurp(err);
+    if (WEXITSTATUS(status) == 0) continue;  // the run ended before the signal came
+    EXPECT_EQ(WEXITSTATUS(status), 128 + sig) << text;
+    EXPECT_NE(text.find(sig == SIGTERM ? "stopped by SIGTERM" : "stopped by SIGINT"),
+              std::string::npos)
+        << text;
+    EXPECT_NE(text.find("--resume " + part.string()), std::string::npos) << text;
+    ASSERT_EQ(run("run --resume " + part.string() + " --quiet", dir_).code, 0);
+    expect_same_rows(ref, part);
+  }
+}
+
 // A result.h5 torn mid-flush (here: cut to half its bytes, which HDF5 cannot open) is rebuilt
 // on resume from timeseries.csv and the checkpoint, the damaged file kept beside; the rows are
 // the uninterrupted run's. With timeseries.csv cut as well, resume refuses naming it.

@@ -15,6 +15,7 @@
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/stop_signal.hpp"
 #include "fretbem/history/check_report.hpp"
 #include "fretbem/history/cost_estimate.hpp"
 #include "fretbem/history/model.hpp"
@@ -184,14 +185,14 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
   std::vector<Observer*> obs{&csv, &h5, &cycles, &checkpoint, &resolution};
   if (!quiet) obs.push_back(&progress);
   const std::size_t budget = a.stop_after > 0 ? std::size_t(a.stop_after) : SIZE_MAX;
-  stepper.run(obs, budget);
+  stepper.run(obs, budget, stop_requested);
   if (stepper.memory().next_step < stepper.steps()) {
     save_checkpoint(dir, model, stepper);
     h5.write_xdmf();
     // Steps count rows of timeseries.csv: row 0 is the normal loading (as `check` counts).
-    std::printf("fretbem: stopped after %zu of %zu steps; continue with: fretbem run --resume %s\n",
-                stepper.memory().next_step, stepper.steps(), dir.string().c_str());
-    return 0;
+    const std::string where = std::to_string(stepper.memory().next_step) + " of " +
+                              std::to_string(stepper.steps()) + " steps";
+    return report_stop(where, dir);
   }
   const PathType path = model.scenario.load.path;
   print_summary(stepper.steps(), path == PathType::sine || path == PathType::table, csv.path(),
@@ -231,8 +232,7 @@ int resume_run(const Args& a) {
         {.rows = std::size_t(cp.wear->counters.rows),
          .field_steps = std::int64_t(model->path.steps.size()),  // rewritten every cycle
          .snapshots = cp.wear->snapshots}));
-    run_wear(*model, a.quiet, &cp, a.stop_after);
-    return 0;
+    return run_wear(*model, a.quiet, &cp, a.stop_after).exit_code;
   }
   if (cp.wear)
     throw InputError((dir / "checkpoint.h5").string() + ": a wear run's, but no wear.law");
@@ -247,6 +247,7 @@ int resume_run(const Args& a) {
 }
 
 int cmd_run(const Args& a) {
+  install_stop_signal_handlers(SecondSignal::kills);  // stop at the next step, checkpointed
   if (!a.resume.empty()) return resume_run(a);
   Scenario sc = read_scenario(a);
   if (!a.out.empty()) set_output_dir(sc, a.out);
@@ -255,8 +256,7 @@ int cmd_run(const Args& a) {
   prepare_output_dir(sc.output.dir, a.overwrite);
   model->run_id = new_run_id();
   if (model->wear) {  // wear runs: their own driver and checkpoints
-    run_wear(*model, a.quiet, nullptr, a.stop_after);
-    return 0;
+    return run_wear(*model, a.quiet, nullptr, a.stop_after).exit_code;
   }
   Stepper stepper(*model);
   return run_model(*model, stepper, -1, a);
