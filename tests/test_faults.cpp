@@ -249,6 +249,47 @@ TEST_F(Faults, SignalStopsRunWithCheckpoint) {
   }
 }
 
+// An input file edited between a run and its --resume (a load table, a height map) is refused
+// with one line naming the key and file; restored, the resume runs (it was followed silently:
+// the resumed steps took the edited table's loads).
+TEST_F(Faults, EditedInputFilesAreRefusedOnResume) {
+  const fs::path src = fs::path(FRETBEM_SOURCE_DIR) / "scenarios", d = dir_ / "edit";
+  fs::create_directories(d);
+  fs::copy_file(src / "varying_normal.ini", d / "v.ini");
+  fs::copy_file(src / "varying_normal.csv", d / "varying_normal.csv");
+  std::string map;  // a paraboloid cap, R = 10 mm, on mindlin_cycle's 16 x 16 grid
+  for (int j = 0; j < 16; ++j, map += '\n')
+    for (int i = 0; i < 16; ++i) {
+      const double h = 2.8e-4 / 16, x = (i - 7.5) * h, y = (j - 7.5) * h;
+      map += std::to_string(-(x * x + y * y) / 0.02 * 1e6) + "e-6 ";
+    }
+  std::ofstream(d / "h.txt") << map;
+  const std::string table = "run " + (d / "v.ini").string() + " --quiet --set grid.n=16";
+  const std::string surface = "run " + kScenario +
+                              " --quiet --set grid.n=16 --set surface.type=file --set "
+                              "surface.file=" +
+                              (d / "h.txt").string();
+  struct Case {
+    std::string run, key;
+    fs::path file;
+  };
+  for (const Case& c : {Case{table, "load.table", d / "varying_normal.csv"},
+                        Case{surface, "surface.file", d / "h.txt"}}) {
+    const fs::path out = d / c.key;
+    ASSERT_EQ(run(c.run + " --stop-after 3 --out " + out.string(), dir_).code, 0) << c.key;
+    const std::string original = slurp(c.file);
+    std::string edited = original;
+    edited[edited.find('\n') + 3] = edited[edited.find('\n') + 3] == '1' ? '2' : '1';
+    std::ofstream(c.file, std::ios::trunc) << edited;
+    const Result r = run("run --resume " + out.string() + " --quiet", dir_);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(c.key + " = " + c.file.string()), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    std::ofstream(c.file, std::ios::trunc) << original;
+    EXPECT_EQ(run("run --resume " + out.string() + " --quiet", dir_).code, 0) << c.key;
+  }
+}
+
 // A result.h5 torn mid-flush (here: cut to half its bytes, which HDF5 cannot open) is rebuilt
 // on resume from timeseries.csv and the checkpoint, the damaged file kept beside; the rows are
 // the uninterrupted run's. With timeseries.csv cut as well, resume refuses naming it.

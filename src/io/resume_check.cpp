@@ -77,6 +77,7 @@ void prepare_output_dir(const fs::path& dir, bool overwrite) {
 }
 
 void validate_checkpoint(const Checkpoint& cp, const Model& m, const fs::path& file) {
+  if (cp.inputs) check_input_digest(*cp.inputs, m);
   const Grid& g = m.scenario.grid;
   const InterfaceState& s = cp.state;
   const int nc = m.tangential_operator->components();

@@ -21,7 +21,8 @@ std::string new_run_id();
 void prepare_output_dir(const std::filesystem::path& dir, bool overwrite);
 
 /// Refuses a checkpoint whose stored quantities do not fit the model built from its own
-/// scenario: field sizes, component count, finiteness, contact states, step counters.
+/// scenario: field sizes, component count, finiteness, contact states, step counters, and the
+/// fingerprints of its load path and initial surface (input_digest.hpp).
 void validate_checkpoint(const Checkpoint& cp, const Model& model,
                          const std::filesystem::path& file);
 
