@@ -158,27 +158,58 @@ std::size_t count_groups(const fs::path& file, const std::string& group) {
 
 }  // namespace
 
-// A full disk (tmpfs of 120 KiB, when root): the run stops with one line naming the file and
-// exit 1 (no SIGSEGV), the checkpoint on disk is the last good one, and --resume elsewhere
-// gives the uninterrupted run's rows.
+// A full disk (tmpfs of 120, 300 and 500 KiB, when root; the first fills during a checkpoint,
+// the others during a result.h5 flush, which crashed at exit inside HDF5): the run stops with
+// one line naming the file and exit 1, the checkpoint on disk is the last good one, and
+// --resume elsewhere gives the uninterrupted run's rows.
 TEST_F(Faults, FullDiskKeepsLastGoodCheckpoint) {
   if (::geteuid() != 0) GTEST_SKIP() << "needs root to mount a tmpfs";
   const fs::path mnt = dir_ / "tmpfs";
   fs::create_directories(mnt);
-  if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, "size=120k") != 0)
+  for (const char* size : {"size=120k", "size=300k", "size=500k"}) {
+    SCOPED_TRACE(size);
+    if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, size) != 0)
+      GTEST_SKIP() << "cannot mount a tmpfs here";
+    const Result r = run("run " + kScenario + kQuick + " --out " + (mnt / "r").string(), dir_);
+    const fs::path moved = dir_ / ("moved_" + std::string(size));
+    fs::copy(mnt / "r", moved);
+    ::umount(mnt.c_str());
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_NE(r.err.find(mnt.string()), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(moved / "checkpoint.h5.tmp"));
+    ASSERT_TRUE(fs::exists(moved / "checkpoint.h5"));
+    fs::remove(moved / ".fretbem.lock");
+    ASSERT_EQ(run("run --resume " + moved.string() + " --quiet", dir_).code, 0);
+    expect_same_rows(full(), moved);
+  }
+}
+
+// A resume on a disk too full to rebuild result.h5 stops with one line and exit 1 (it crashed
+// inside HDF5) and leaves the run's files as they were.
+TEST_F(Faults, ResumeOnFullDiskLeavesTheRunAsItWas) {
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root to mount a tmpfs";
+  const fs::path part = dir_ / "part", mnt = dir_ / "tmpfs";
+  ASSERT_EQ(
+      run("run " + kScenario + kQuick + " --stop-after 150 --out " + part.string(), dir_).code, 0);
+  std::uintmax_t bytes = 0;
+  for (const auto& e : fs::directory_iterator(part)) bytes += fs::file_size(e.path());
+  fs::create_directories(mnt);
+  const std::string size = "size=" + std::to_string(bytes / 1024 + 40) + "k";
+  if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, size.c_str()) != 0)
     GTEST_SKIP() << "cannot mount a tmpfs here";
-  const Result r = run("run " + kScenario + kQuick + " --out " + (mnt / "r").string(), dir_);
-  const fs::path moved = dir_ / "moved";
-  fs::copy(mnt / "r", moved);
+  fs::copy(part, mnt / "r");
+  const std::string before = slurp(mnt / "r" / "result.h5");
+  const Result r = run("run --resume " + (mnt / "r").string() + " --quiet", dir_);
+  const std::string after = slurp(mnt / "r" / "result.h5");
+  const bool leftover = fs::exists(mnt / "r" / "result.h5.resume");
   ::umount(mnt.c_str());
   EXPECT_EQ(r.code, 1) << r.err;
-  EXPECT_NE(r.err.find(mnt.string()), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_FALSE(fs::exists(moved / "checkpoint.h5.tmp"));
-  ASSERT_TRUE(fs::exists(moved / "checkpoint.h5"));
-  ASSERT_EQ(run("run --resume " + moved.string() + " --quiet", dir_).code, 0);
-  expect_same_rows(full(), moved);
+  EXPECT_TRUE(before == after);
+  EXPECT_FALSE(leftover);
 }
 
 // SIGKILL at six random points (fixed seed) of a fields-every-step run: each time the

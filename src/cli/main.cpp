@@ -15,6 +15,7 @@
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/hdf5.hpp"
 #include "fretbem/core/stop_signal.hpp"
 #include "fretbem/history/check_report.hpp"
 #include "fretbem/history/cost_estimate.hpp"
@@ -371,6 +372,7 @@ std::string describe(const std::filesystem::filesystem_error& e) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  fretbem::hdf5::no_library_close_at_exit();  // a full disk must end in a message, not SIGSEGV
   try {
     const Args a = parse_args(argc, argv);
     if (a.command == "help") return std::fputs(kUsage, stdout), 0;

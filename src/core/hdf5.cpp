@@ -31,6 +31,10 @@ void silence() {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
 }
 
+void no_library_close_at_exit() {
+  H5dont_atexit();
+}
+
 std::vector<std::string> link_names(hid_t group) {
   std::vector<std::string> names;
   if (H5Literate(group, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect_link, &names) < 0)

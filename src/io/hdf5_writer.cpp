@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 #include <system_error>
 
@@ -63,7 +64,6 @@ struct Hdf5Writer::Impl {
   void write_columns_attribute(hid_t dataset, const char* name,
                                const std::vector<std::string>& values) const;
   void open_timeseries();
-  void copy_step_group(hid_t source, const std::string& name) const;
 };
 
 bool Hdf5Writer::Impl::exists(const std::string& name) const {
@@ -176,31 +176,39 @@ T read_scalar_attribute(hid_t loc, const char* name, hid_t mem_type) {
 
 }  // namespace
 
-void Hdf5Writer::Impl::copy_step_group(hid_t source, const std::string& name) const {
-  GroupH from(check(H5Gopen2(source, name.c_str(), H5P_DEFAULT), "open " + name));
-  const auto step = read_scalar_attribute<std::int64_t>(from.get(), "step", H5T_NATIVE_INT64);
-  const auto time = read_scalar_attribute<double>(from.get(), "time", H5T_NATIVE_DOUBLE);
-  const std::vector<std::string> fields = hdf5::link_names(from.get());
-  remove_if_exists(name);
-  const PlistH lcpl = link_plist();
-  GroupH to(check(H5Gcreate2(file.get(), name.c_str(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
-                  "create group " + name));
-  write_attribute(to.get(), "step", H5T_STD_I64LE, H5T_NATIVE_INT64, &step);
-  write_attribute(to.get(), "time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &time);
-  // Attributes are not copied: the dimension-scale references point into the source file;
-  // describe_field writes units and names and attaches this file's /x and /y.
-  PlistH ocpl(check(H5Pcreate(H5P_OBJECT_COPY), "create a property list"));
-  check(H5Pset_copy_object(ocpl.get(), H5O_COPY_WITHOUT_ATTR_FLAG), "set up the copy");
-  for (const auto& f : fields) {
-    check(H5Ocopy(from.get(), f.c_str(), to.get(), f.c_str(), ocpl.get(), H5P_DEFAULT),
-          "copy " + name + "/" + f);
-    DatasetH d(check(H5Dopen2(to.get(), f.c_str(), H5P_DEFAULT), "open " + name + "/" + f));
-    SpaceH space(check(H5Dget_space(d.get()), "read " + name + "/" + f));
-    std::vector<double> values(std::size_t(H5Sget_simple_extent_npoints(space.get())));
-    check(H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
-          "read back " + name + "/" + f);
-    describe_field(file.get(), d.get(), f, path.string());
+// A group of write_step_fields' layout read whole into memory: any damage (an unreadable
+// attribute, field or chunk, a name that is not PREFIX%06d of its step) throws.
+struct StepGroup {
+  std::int64_t step = 0;
+  double time = 0.0;
+  std::string prefix;
+  std::map<std::string, Field> fields;
+};
+
+StepGroup read_step_group(hid_t source, const std::string& name) {
+  GroupH from(H5Gopen2(source, name.c_str(), H5P_DEFAULT));
+  if (!from.valid()) throw std::runtime_error("cannot open " + name);
+  StepGroup g;
+  g.step = read_scalar_attribute<std::int64_t>(from.get(), "step", H5T_NATIVE_INT64);
+  g.time = read_scalar_attribute<double>(from.get(), "time", H5T_NATIVE_DOUBLE);
+  char num[32];
+  std::snprintf(num, sizeof num, "%06lld", static_cast<long long>(g.step));
+  if (name.size() < std::strlen(num) || name.substr(name.size() - std::strlen(num)) != num)
+    throw std::runtime_error(name + " is not the group of its step");
+  g.prefix = name.substr(0, name.size() - std::strlen(num));
+  for (const auto& f : hdf5::link_names(from.get())) {
+    DatasetH d(H5Dopen2(from.get(), f.c_str(), H5P_DEFAULT));
+    SpaceH space(d.valid() ? H5Dget_space(d.get()) : -1);
+    hsize_t dims[2] = {0, 0};
+    if (!space.valid() || H5Sget_simple_extent_ndims(space.get()) != 2 ||
+        H5Sget_simple_extent_dims(space.get(), dims, nullptr) < 0)
+      throw std::runtime_error("cannot read " + name + "/" + f);
+    Field field(static_cast<Eigen::Index>(dims[1]), static_cast<Eigen::Index>(dims[0]));
+    if (H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, field.data()) < 0)
+      throw std::runtime_error("cannot read " + name + "/" + f);
+    g.fields.emplace(f, std::move(field));
   }
+  return g;
 }
 
 Hdf5Writer::Hdf5Writer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -235,6 +243,11 @@ Hdf5Writer& Hdf5Writer::operator=(Hdf5Writer&&) noexcept = default;
 
 const fs::path& Hdf5Writer::path() const {
   return impl_->path;
+}
+
+void Hdf5Writer::close() {
+  impl_->timeseries.close();
+  if (impl_->file.close() < 0) impl_->fail("close");
 }
 
 void Hdf5Writer::describe(const Grid& grid, const fs::path& output_dir) {
@@ -282,19 +295,23 @@ void Hdf5Writer::write_step_fields(std::int64_t step, double time,
 
 std::vector<std::string> Hdf5Writer::copy_step_groups(const fs::path& source,
                                                       const std::vector<std::string>& groups) {
+  // Read whole, then written as a run writes them (H5Ocopy of HDF5 1.10.8 crashed in its
+  // error path when the destination disk filled up): a read failure is the source's damage
+  // and leaves the group out, a write failure is this file's and throws.
   std::vector<std::string> failed;
   FileH src(H5Fopen(source.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
-  for (const auto& g : groups) {
+  for (const auto& name : groups) {
+    StepGroup g;
     try {
       if (!src.valid()) throw std::runtime_error("cannot open the source");
-      impl_->copy_step_group(src.get(), g);
+      g = read_step_group(src.get(), name);
     } catch (const std::exception&) {
-      hdf5::last_error();                                    // clears the stack
-      H5Ldelete(impl_->file.get(), g.c_str(), H5P_DEFAULT);  // a partial copy is not kept
-      failed.push_back(g);
+      hdf5::last_error();  // clears the stack
+      failed.push_back(name);
+      continue;
     }
+    write_step_fields(g.step, g.time, g.fields, g.prefix);
   }
-  impl_->flush();
   return failed;
 }
 

@@ -160,7 +160,7 @@ std::string prepare_result_for_resume(const fs::path& dir, const Model& model,
   }
   const std::string fresh_name = std::string(io::Hdf5Writer::file_name) + ".resume";
   std::size_t copied = 0;
-  {
+  try {
     io::Hdf5Writer fresh(dir, fresh_name);
     write_result_header(fresh, model);
     for (const auto& row : table.rows) fresh.append_row(row);
@@ -169,6 +169,10 @@ std::string prepare_result_for_resume(const fs::path& dir, const Model& model,
     if (!failed.empty())
       lost.push_back(std::to_string(failed.size()) + " of its " + std::to_string(groups.size()) +
                      " field groups are damaged (first " + failed.front() + ") and lost");
+    fresh.close();
+  } catch (...) {
+    fs::remove(dir / fresh_name, ec);  // a full disk: the old file stays as it is
+    throw;
   }
   fs::path kept = h5;
   kept += ".damaged";
