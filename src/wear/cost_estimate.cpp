@@ -82,6 +82,8 @@ std::string describe(const WearCostEstimate& e, const WearSpec& w) {
             ? std::string()
             : " to " + num(e.seconds_per_cycle * e.simulated_high, "%.2g")) +
        " s (from one steady cycle solved in " + num(e.calibration_seconds, "%.2g") + " s)\n";
+  if (const std::string warn = explicit_cap_warning(w, e.cap); !warn.empty())
+    o += "  " + warn + "\n";
   return o;
 }
 

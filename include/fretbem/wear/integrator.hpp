@@ -116,6 +116,8 @@ class WearLog {
   virtual void snapshot(double /*N*/, const Field& /*worn*/, const Field& /*pressure*/) {}
   /// A wear step is finished and its rows and snapshots are out: the state to resume from.
   virtual void step_done(const WearCheckpoint& /*at*/) {}
+  /// A warning about the run, one line (explicit_cap_warning).
+  virtual void warn(const std::string& /*line*/) {}
 };
 
 /// Simulates cycles of the scenario's load path (its first period) on the model's surface.
@@ -181,6 +183,12 @@ inline constexpr double kImplicitPastCaps = 50.0;
 /// Stability cap on the cycle step of an explicit integrator: 1 / (k_eq s_max K_max),
 /// K_max = 1.7 E*/h the largest eigenvalue of the normal influence matrix (issue 6).
 double explicit_step_cap(const Model& model, double max_slip);
+
+/// wear.integrator = erk chosen for a run longer than kImplicitPastCaps stability caps `cap`
+/// (cycles per explicit step, of the unworn surface): a one-line warning (no "fretbem: "
+/// prefix, no newline) naming the cap, the run's length in caps, and dirk / arkode; empty
+/// otherwise. Printed by `fretbem check` and at the start of the run.
+std::string explicit_cap_warning(const WearSpec& wear, double cap);
 
 /// Geometric output sequence 0, 1, 2, 5, 10, 20, 50, ... up to and including N_end.
 std::vector<double> snapshot_cycles(double N_end);
