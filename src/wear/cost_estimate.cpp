@@ -48,8 +48,7 @@ WearCostEstimate estimate_wear_cost(const Scenario& sc) {
   e.cap = explicit_step_cap(*model, c0.max_slip);
   const WearSpec& w = sc.wear;
   const double N = w.cycles;
-  e.implicit = w.integrator == WearIntegrator::dirk ||
-               (w.integrator == WearIntegrator::arkode && N > kImplicitPastCaps * e.cap);
+  e.implicit = runs_implicit(w.integrator, N, e.cap, cycles.simulated());
   if (w.integrator == WearIntegrator::cycle) {
     e.simulated_low = e.simulated_high = N;
   } else if (e.implicit) {

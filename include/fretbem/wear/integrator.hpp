@@ -180,6 +180,14 @@ WearReport integrate_wear(Model& model, WearCycles& cycles, WearLog* log,
 /// vs 594. Interpolated crossovers: ~40 and ~100.
 inline constexpr double kImplicitPastCaps = 50.0;
 
+/// Whether the implicit method runs: dirk; arkode past kImplicitPastCaps caps, or when the cap
+/// is so short that an explicit step (two wear-map evaluations of `evaluation_cycles` simulated
+/// cycles each) can never cover twice its cost in cycles (the cost guard's kStepWorth): then
+/// every explicit step is unprofitable and the cost guard's stretches, interrupted by one
+/// wasted step per snapshot interval, exceed N (gross slip, n = 64, k = 1e-13, N = 100: cap
+/// 2.8 cycles, 117.6 simulated cycles with erk; tools/bench/wear_sweep.py).
+bool runs_implicit(WearIntegrator kind, double N, double cap, double evaluation_cycles);
+
 /// Stability cap on the cycle step of an explicit integrator: 1 / (k_eq s_max K_max),
 /// K_max = 1.7 E*/h the largest eigenvalue of the normal influence matrix (issue 6).
 double explicit_step_cap(const Model& model, double max_slip);
