@@ -203,11 +203,9 @@ TEST(WearPaths, RowIndentationAtThePeriodEnd) {
 
 // Gross slip with a short stability cap (D = 10 um, k = 1e-13: cap ~2.8 cycles at n = 64):
 // an explicit step of two wear-map evaluations never covers twice its cost, so arkode runs
-// the implicit method; with erk the cost guard's stretches, broken by a wasted step per
-// snapshot interval, took 117.6 simulated cycles for N = 100 (tools/bench/wear_sweep.py).
-// n = 32 (cap ~5.6) does not reproduce it. (With the default steps_per_cycle the same case
-// costs 103.3 simulated cycles: the cost guard bounds the waste to a few steps, not strictly
-// to N + 1.25; docs/wear.md.)
+// the implicit method (61.2 simulated cycles); erk's cost guard stretches, broken by a wasted
+// step per snapshot interval, took 117.6 for N = 100 (tools/bench/wear_sweep.py). n = 32
+// (cap ~5.6) does not reproduce it.
 TEST(WearPaths, ShortCapGrossSlipCostsAtMostEveryCycle) {
   const double N = 100;
   const WearReport rep = integrate(sphere(

@@ -437,15 +437,10 @@ double absolute_tolerance(const Model& model, WearCycles& cyc) {
 
 // N += L cycles one by one from (t, W): the steady cycle of W, then the physical history
 // (tractions carried, each cycle's wear applied before the next). Every row is a point of the
-// solution (accepted). A fractional L ends with a part of a cycle: its simulated cycle's wear
-// times the fraction (cycle mode's Euler step, shortened), so the stretch lands on the next
-// snapshot instead of leaving the integrator a bridging step of a fraction of a cycle at the
-// cost of two wear-map evaluations (measured: gross slip at n = 64, k = 1e-13, N = 100, four
-// such bridges near the snapshots 20, 50 and 100 took the run to 117.6 simulated cycles).
-double cycle_stretch(WearCycles& cyc, WearReport& rep, WearLog* log, double t, Field& W, double L,
+// solution (accepted).
+double cycle_stretch(WearCycles& cyc, WearReport& rep, WearLog* log, double t, Field& W, long L,
                      std::pair<double, std::uint64_t>& last) {
-  const long whole = long(std::ceil(L - 1e-9));
-  for (long k = 0; k < whole; ++k) {
+  for (long k = 0; k < L; ++k, t += 1.0) {
     WearCycle c = k == 0 ? cyc.steady(t, W) : cyc.continued(t);
     c.worn_hash = fingerprint(W);
     // The state the stretch starts from may have its accepted row already (the integrator
@@ -453,14 +448,12 @@ double cycle_stretch(WearCycles& cyc, WearReport& rep, WearLog* log, double t, F
     const std::pair<double, std::uint64_t> key{t, c.worn_hash};
     c.accepted = key != last;
     last = key;
-    const double part = std::min(1.0, L - double(k));
-    W += part * c.rate;
-    t += part;
-    if (k + 1 < whole) cyc.apply(c.rate);
+    W += c.rate;
+    if (k + 1 < L) cyc.apply(c.rate);
     keep(rep, std::move(c), log);
   }
   ++rep.stretches;
-  rep.stretch_cycles += L;
+  rep.stretch_cycles += double(L);
   return t;
 }
 
@@ -548,16 +541,14 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegr
         stretch = stretched ? 2.0 * stretch : std::max(kMinStretch, cyc.simulated() - sim0);
         // Whole cycles to the snapshot; t may sit a rounding error below a whole number.
         const double eps = 1e-9 * std::max(1.0, snaps[i]);
-        // Whole cycles, or to the snapshot (a fraction of the last cycle); the doubling
-        // carries over snapshots, so an integrator that stays unprofitable is tried ever less.
-        const double L = std::min(stretch, snaps[i] - t);
-        if (L > eps) {
+        const long L = long(std::min(stretch, std::floor(snaps[i] - t + eps)));
+        if (L >= 1) {
           Field W = Wy();
           t = cycle_stretch(cyc, rep, log, t, W, L, last);
           if (std::abs(t - snaps[i]) <= eps) t = snaps[i];
           Wy() = W;
         }
-        stretched = true;
+        stretched = L >= 1;
       } else {
         stretched = false;
       }

@@ -185,7 +185,7 @@ inline constexpr double kImplicitPastCaps = 50.0;
 /// cycles each) can never cover twice its cost in cycles (the cost guard's kStepWorth): then
 /// every explicit step is unprofitable and the cost guard's stretches, interrupted by one
 /// wasted step per snapshot interval, exceed N (gross slip, n = 64, k = 1e-13, N = 100: cap
-/// 2.8 cycles, 117.6 simulated cycles with erk; tools/bench/wear_sweep.py).
+/// 2.8 cycles, 117.6 simulated cycles with erk, 61.2 with dirk; tools/bench/wear_sweep.py).
 bool runs_implicit(WearIntegrator kind, double N, double cap, double evaluation_cycles);
 
 /// Stability cap on the cycle step of an explicit integrator: 1 / (k_eq s_max K_max),
