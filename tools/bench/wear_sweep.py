@@ -24,6 +24,7 @@ simulate at most N / 10, except erk chosen by the user past 50 stability caps, w
 in a warning at the run's start. CPU time is the child's user + system time.
 
     nice -n 10 tools/bench/wear_sweep.py build/fretbem [--grids 32,64] [--filter TEXT] [--list]
+    tools/bench/wear_sweep.py build/fretbem --quick      # the ctest subset (WearSweep.Quick)
 
 Prints one markdown row per case and a final count of failures (exit 1 when any).
 """
@@ -185,6 +186,19 @@ def cases(grids):
     return out
 
 
+# The ctest subset (WearSweep.Quick), cheap cases at n = 32 through the CLI: near sliding to
+# Popov's end state (the normal-solver cycle), a short run against cycle, and the refusals
+# (evolving friction, 2-D tables). The other failures the sweep found have gtests
+# (WearPaths.ShortCapGrossSlipCostsAtMostEveryCycle, WearPaths.RowIndentationAtThePeriodEnd).
+QUICK = {
+    "n32 q0.9 archard 1e-11 arkode N100000",
+    "n32 q0.6 k1e-11 arkode N10 (ref)",
+    "refuse amplitude 1.0",
+    "refuse evolving friction with arkode",
+    "refuse 2-D table with arkode",
+}
+
+
 def cpu_children():
     r = resource.getrusage(resource.RUSAGE_CHILDREN)
     return r.ru_utime + r.ru_stime
@@ -312,8 +326,12 @@ def main():
     ap.add_argument("--grids", default="32")
     ap.add_argument("--filter", default="")
     ap.add_argument("--list", action="store_true")
+    ap.add_argument("--quick", action="store_true",
+                    help="the ctest subset: QUICK cases at n = 32 (a few s of CPU)")
     a = ap.parse_args()
     todo = [c for c in cases([int(v) for v in a.grids.split(",")]) if a.filter in c.name]
+    if a.quick:
+        todo = [c for c in cases([32]) if c.name in QUICK]
     if a.list:
         for c in todo:
             print(c.name)
