@@ -12,9 +12,10 @@ namespace fretbem {
 Stepper::Stepper(Model& model)
     : model_(model), state_(InterfaceState::zeros(*model.tangential_operator)) {}
 
-std::size_t Stepper::run(const std::vector<Observer*>& observers, std::size_t max_steps) {
+std::size_t Stepper::run(const std::vector<Observer*>& observers, std::size_t max_steps,
+                         const std::function<bool()>& stop) {
   std::size_t done = 0;
-  for (std::size_t k = next_; k < steps() && done < max_steps; ++k, ++done) {
+  for (std::size_t k = next_; k < steps() && done < max_steps && !(stop && stop()); ++k, ++done) {
     const StepRecord rec = advance(k);
     for (auto* o : observers) o->on_step(rec, state_, model_);
   }

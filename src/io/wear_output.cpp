@@ -5,6 +5,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/stop_signal.hpp"
 #include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/csv_writer.hpp"
 #include "fretbem/io/run_output.hpp"
@@ -46,6 +47,7 @@ class WearFiles final : public WearLog {
         progress_(!quiet) {
     if (resume) rows_ = resume->cycles_rows, snapshots_ = resume->snapshots;
   }
+  bool stop_requested() const override { return fretbem::stop_requested(); }
   void cycle(const WearCycle& c) override {
     const double s = model_.scenario.wear.indenter_share;
     // N is the count a cycle stands for: integral in cycle mode and stretches (summed ones),
@@ -119,9 +121,9 @@ WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume, long max
   WearReport rep = integrate_wear(model, sim, &log, at, max_steps);
   log.done();
   if (rep.stopped) {
-    std::printf("fretbem: stopped at N = %s of %s; continue with: fretbem run --resume %s\n",
-                format_count(rep.N).c_str(), format_count(model.scenario.wear.cycles).c_str(),
-                dir.string().c_str());
+    rep.exit_code = report_stop("N = " + format_count(rep.N) + " of " +
+                                    format_count(model.scenario.wear.cycles) + " cycles",
+                                dir);
     return rep;
   }
   h5.on_finish(stepper.state(), model);

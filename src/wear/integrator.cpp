@@ -112,7 +112,7 @@ WearReport integrate_cycles(Model& model, WearCycles& cyc, WearLog* log,
       at.next_snapshot = long(next_snap);
       log->step_done(at);
     }
-    if (max_steps >= 0 && ++taken >= max_steps) {
+    if ((max_steps >= 0 && ++taken >= max_steps) || (log && log->stop_requested())) {
       rep.stopped = true;
       rep.N = N + 1.0;
       break;
@@ -582,7 +582,7 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegr
         at.implicit = implicit;
         log->step_done(at);
       }
-      if (max_steps >= 0 && ++taken >= max_steps) {
+      if ((max_steps >= 0 && ++taken >= max_steps) || (log && log->stop_requested())) {
         rep.stopped = true;
         break;
       }

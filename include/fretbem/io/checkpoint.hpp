@@ -10,6 +10,7 @@
 #include <string>
 
 #include "fretbem/history/stepper.hpp"
+#include "fretbem/io/input_digest.hpp"
 #include "fretbem/wear/integrator.hpp"
 
 namespace fretbem {
@@ -25,6 +26,9 @@ struct Checkpoint {
   StepperMemory memory;
   Field surface;                       ///< current (possibly worn) indenter height (m)
   std::optional<WearCheckpoint> wear;  ///< wear runs: where the wear integration stands
+  /// Fingerprints of the run's load path and initial surface (absent in checkpoints written
+  /// before session 5: then not checked).
+  std::optional<InputDigest> inputs;
 };
 
 /// Writes DIR/checkpoint.h5 atomically (tmp file, checked writes, fsync, rename); `wear` for
