@@ -81,6 +81,11 @@ class WearFiles final : public WearLog {
     c.cycles_rows = rows_, c.snapshots = snapshots_;
     save_checkpoint(model_.scenario.output.dir, model_, stepper_, &c);
   }
+  // On stderr, with --quiet too: it says what the run will cost before it is spent.
+  void warn(const std::string& line) override {
+    progress_.finish();
+    std::fprintf(stderr, "fretbem: %s\n", line.c_str());
+  }
   void done() { progress_.finish(); }
   const std::filesystem::path& path() const { return csv_.path(); }
   /// N and energy_per_cycle (J) of the last accepted cycles.csv row (none yet: N < 0).
