@@ -6,12 +6,12 @@ trial evaluations), and the hysteresis loop F_x - U_x at given N.
 
 usage: tools/plot_wear.py DIR [--out FILE.png] [--loop-at N1,N2,...] [--loop-out FILE.png]
 Writes FILE.png and FILE.pdf (default DIR/wear.png), and the loops as LOOP.png and LOOP.pdf
-(default DIR/wear_loops.png). --loop-at picks, for each N, the accepted cycle nearest to it
-(default: the first and the last accepted cycle and one between) and draws the rows of that
-simulated cycle from DIR/timeseries.csv (cycles.csv's row i, accepted or not, wrote the rows with
-time in (i, i + 1], in both integrator modes), labelled with its energy per cycle. Wear runs
-solve each monotone segment of the period in one increment, so these rows are the cycle's
-turning points, not the branches of the loop between them.
+(default DIR/wear_loops.png). --loop-at N draws the steady F_x - U_x loop at each N (default: the
+first, a middle and the last accepted N) with its area: the second cycle of a plain fretting run
+(no wear law, 64 steps per cycle) on the surface worn to the wear snapshot nearest N, run with
+the fretbem binary --fretbem PATH (default build/fretbem next to tools/, else on PATH); see
+loop_at. DIR/timeseries.csv holds only the turning points of the simulated cycles (wear runs
+solve each monotone segment in one increment; loop_rows picks them, used by the tests).
 """
 import argparse
 import os
@@ -30,6 +30,8 @@ def main():
     ap.add_argument("--out", default=None, help="image file (default DIR/wear.png)")
     ap.add_argument("--loop-at", default=None, help="cycle counts N1,N2,... of the loops")
     ap.add_argument("--loop-out", default=None, help="loop figure (default DIR/wear_loops.png)")
+    ap.add_argument("--fretbem", default=None,
+                    help="fretbem binary for the loops (default build/fretbem, else PATH)")
     a = ap.parse_args()
     out = a.out or os.path.join(a.dir, "wear.png")
     with h5py.File(os.path.join(a.dir, "result.h5"), "r") as f:
@@ -86,10 +88,10 @@ def main():
     plot_loops(a, wear)
 
 
-def loop_cycles(spec, N):
-    """Indices of the accepted rows nearest to the wanted counts (default: first, middle, last)."""
+def loop_wanted(spec, N):
+    """The wanted cycle counts (default: the first, a middle and the last accepted N)."""
     if spec is None:
-        return sorted({0, len(N) // 2, len(N) - 1})
+        return [float(N[i]) for i in sorted({0, len(N) // 2, len(N) - 1})]
     try:
         wanted = [float(v) for v in spec.split(",")]
     except ValueError:
@@ -99,12 +101,12 @@ def loop_cycles(spec, N):
         if not N.min() - 0.5 <= w <= N.max() + 0.5:
             fp.fail(TOOL, f"--loop-at: N = {fp.count(w)} is outside the run's "
                           f"{fp.count(N.min())}..{fp.count(N.max())}")
-        out.append(int(np.argmin(np.abs(N - w))))
+        out.append(w)
     return out
 
 
 def loop_rows(time, i):
-    """Row indices of DIR/timeseries.csv that draw the loop of DIR/cycles.csv's row i.
+    """Row indices of DIR/timeseries.csv (the turning points) of DIR/cycles.csv's row i.
 
     Every cycles.csv row, accepted or not, is one simulated cycle whose timeseries rows have
     time = its position i + phase (docs/wear.md): ARKODE's steady cycle writes its loop from
@@ -117,22 +119,118 @@ def loop_rows(time, i):
     return np.concatenate([rows[-1:], rows]) if len(rows) else rows
 
 
+def fretbem_binary(spec):
+    """--fretbem PATH, else build/fretbem next to tools/, else fretbem on PATH."""
+    import shutil
+
+    if spec:
+        if not os.access(spec, os.X_OK):
+            fp.fail(TOOL, f"--fretbem: {spec} is not an executable file")
+        return spec
+    local = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "fretbem")
+    found = local if os.access(local, os.X_OK) else shutil.which("fretbem")
+    if not found:
+        fp.fail(TOOL, "--loop-at: no fretbem binary (give --fretbem PATH)")
+    return found
+
+
+def nearest_snapshot(wanted, times):
+    """Index of the wear snapshot nearest to N = wanted in log(1 + N). Snapshots are written at
+    N = 0, 1, 2, 5, 10, ... (factor <= 2.5 apart), so any N inside the run is within a factor
+    sqrt(2.5) ~ 1.6 of one; farther than a factor 2 (the worn depth, ~linear in N early on, would
+    differ by more than 2x) is refused."""
+    t = np.asarray(times)
+    d = np.abs(np.log1p(t) - np.log1p(wanted))
+    i = int(np.argmin(d))
+    if d[i] > np.log(2):
+        fp.fail(TOOL, f"--loop-at: no wear snapshot within a factor 2 of N = {fp.count(wanted)} "
+                      f"(snapshots at N = {', '.join(fp.count(v) for v in t)})")
+    return i
+
+
+def loop_scenario(text, surface_file, out_dir, steps):
+    """The run's resolved scenario without [wear], on the worn surface, two cycles of `steps`
+    steps each (plain fretting: the loop at N is the second cycle, see loop_at)."""
+    out, section = [], None
+    for line in text.splitlines():
+        s = line.strip()
+        if s.startswith("["):
+            section = s.strip("[] ")
+            if section == "wear":
+                continue
+        if section == "wear":
+            continue
+        key = s.split("=", 1)[0].strip() if "=" in s and not s.startswith("#") else None
+        if (section, key) in (("surface", "type"), ("surface", "file"), ("surface", "dataset"),
+                              ("surface", "layout"), ("load", "cycles"),
+                              ("load", "steps_per_cycle"), ("load", "steps"), ("output", "dir"),
+                              ("output", "fields")):
+            continue
+        out.append(line)
+        if s == "[surface]":
+            out += ["type = file", f"file = {surface_file}", "layout = yx"]
+        elif s == "[load]":
+            out += ["cycles = 2", f"steps_per_cycle = {steps}"]
+        elif s == "[output]":
+            out += [f"dir = {out_dir}", "fields = none"]
+    return "\n".join(out) + "\n"
+
+
+def loop_at(run_dir, wanted, binary, work, steps=64):
+    """The steady F_x - U_x loop at N = wanted: (N used, Ux, Fx, area, dissipation).
+
+    Under a periodic tangential load at constant normal load the steady cycle does not depend
+    on the initial tangential state (Barber, Davies & Hills, Int. J. Solids Struct. 48 (2011)
+    2041; for the sphere Mindlin & Deresiewicz 1953, Masing's rule), so the loop at N is the
+    second cycle of a plain fretting run (no wear law) on the surface worn to N: the initial
+    indenter height minus the total worn depth (both bodies' shares: the gap sees their sum)."""
+    import subprocess
+
+    with h5py.File(os.path.join(run_dir, "result.h5"), "r") as f:
+        snaps = sorted(k for k in f["wear"].keys() if k.startswith("snapshot_"))
+        times = [float(f["wear"][s].attrs["time"]) for s in snaps]
+        i = nearest_snapshot(wanted, times)
+        z = f["surface/initial"][()] - f["wear"][snaps[i]]["worn_depth"][()]
+        text = f["scenario"][()]
+        text = text.decode() if isinstance(text, bytes) else str(text)
+    tag = f"N{fp.count(times[i])}"
+    surface = os.path.abspath(os.path.join(work, f"worn_{tag}.npy"))
+    np.save(surface, z)
+    ini = os.path.join(work, f"loop_{tag}.ini")
+    out = os.path.join(work, f"loop_{tag}")
+    with open(ini, "w") as fh:
+        fh.write(loop_scenario(text, surface, out, steps))
+    r = subprocess.run([binary, "run", ini, "--quiet", "--overwrite", "--out", out],
+                       capture_output=True,
+                       text=True)
+    if r.returncode != 0:
+        fp.fail(TOOL, f"--loop-at: fretbem run on the surface worn to N = {fp.count(times[i])} "
+                      f"failed: {r.stderr.strip().splitlines()[-1] if r.stderr.strip() else ''}")
+    ts = fp.read_csv(os.path.join(out, "timeseries.csv"), TOOL)
+    rows = np.flatnonzero(ts["time"] >= 1 - 1e-9)  # the second cycle, from its start point
+    ux, fx = ts["Ux"][rows], ts["Fx"][rows]
+    # Shoelace area of the closed polygon (a counter-clockwise F-U loop dissipates +area).
+    area = abs(0.5 * np.sum(ux * np.roll(fx, -1) - np.roll(ux, -1) * fx))
+    dissipated = ts["dissipation"][rows[-1]] - ts["dissipation"][rows[0]]
+    return times[i], ux, fx, area, dissipated
+
+
 def plot_loops(a, wear):
-    ts = fp.read_csv(os.path.join(a.dir, "timeseries.csv"), TOOL)
+    import tempfile
+
     fig, ax = fp.figure(width=3.6, height=3.0)
     ax = ax[0, 0]
-    pick = loop_cycles(a.loop_at, wear["N"])
+    wanted = loop_wanted(a.loop_at, wear["N"])
+    binary = fretbem_binary(a.fretbem)
     cmap = fp.plt.get_cmap("viridis")
-    for c, i in enumerate(pick):
-        # i indexes the accepted rows; the loop's time is the row's position in cycles.csv.
-        rows = loop_rows(ts["time"], wear["row"][i])
-        col = cmap(c / max(1, len(pick) - 1))
-        label = f"N = {fp.count(wear['N'][i])}: {wear['energy_per_cycle'][i]:.3g} J/cycle"
-        ax.plot(ts["Ux"][rows] * 1e6, ts["Fx"][rows], ".-", ms=3, color=col, label=label)
-    # Wear runs solve each monotone segment in one increment (docs/wear.md, "Steps
-    # simulated"): the rows are the cycle's turning points, not the branches between them.
-    ax.set(xlabel="U$_x$ (µm)", ylabel="F$_x$ (N)",
-           title="turning points of the cycle at N")
+    with tempfile.TemporaryDirectory(prefix="fretbem_loop_") as work:
+        for c, w in enumerate(wanted):
+            n_used, ux, fx, area, _ = loop_at(a.dir, w, binary, work)
+            col = cmap(c / max(1, len(wanted) - 1))
+            label = f"N = {fp.count(n_used)}" + ("" if n_used == w else
+                                                   f" (nearest to {fp.count(w)})")
+            ax.plot(ux * 1e6, fx, "-", color=col, label=f"{label}: area {area:.3g} J")
+    ax.set(xlabel="U$_x$ (µm)", ylabel="F$_x$ (N)", title="hysteresis loop at N")
     ax.legend(fontsize=7)
     fp.save(fig, a.loop_out or os.path.join(a.dir, "wear_loops.png"))
 
