@@ -235,7 +235,10 @@ int resume_run(const Args& a) {
   check_resume_outputs(dir, cp.run_id, cp.memory.next_step);
   model->surface = cp.surface;
   Stepper stepper(*model);
-  stepper.restore(cp.state, cp.memory);
+  const Grid& g = model->scenario.grid;
+  stepper.restore(cp.state, cp.memory,
+                  CyclePredictor::unflatten(cp.predictor, std::size_t(g.nx * g.ny),
+                                            model->tangential_operator->components()));
   return run_model(*model, stepper, long(cp.memory.next_step), a);
 }
 

@@ -123,6 +123,8 @@ std::vector<char> checkpoint_image(const Model& model, const Stepper& stepper,
   write_state(f.get(), stepper.state());
   write_memory(f.get(), stepper.memory());
   write_field(f.get(), "surface", model.surface);
+  if (!stepper.predictor().empty())
+    write_vector(f.get(), "predictor", stepper.predictor().flatten());
   if (wear) write_wear(f.get(), *wear);
   if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) write_failed("(flush)");
   const ssize_t size = H5Fget_file_image(f.get(), nullptr, 0);
@@ -359,6 +361,7 @@ Checkpoint load_checkpoint(const fs::path& dir) {
   c.memory = read_memory(r);
   c.surface = r.field("surface");
   c.wear = read_wear(r);
+  if (r.exists("predictor")) c.predictor = r.array("predictor", nullptr);
   return c;
 }
 

@@ -25,6 +25,10 @@ struct Checkpoint {
   StepperMemory memory;
   Field surface;                       ///< current (possibly worn) indenter height (m)
   std::optional<WearCheckpoint> wear;  ///< wear runs: where the wear integration stands
+  /// The cycle predictor's memory (dataset `predictor`, CyclePredictor::flatten, written when
+  /// not empty; checked by validate_checkpoint); checkpoints written before it have none and
+  /// resume with an empty predictor.
+  std::vector<double> predictor;
 };
 
 /// Writes DIR/checkpoint.h5 atomically (tmp file, checked writes, fsync, rename); `wear` for
