@@ -103,5 +103,66 @@ class Figures(unittest.TestCase):
             self.written(out)
 
 
+class WearLoopRows(unittest.TestCase):
+    """plot_wear.py --loop-at draws, for cycles.csv's row i, the timeseries rows loop_rows picks:
+    checked against what the run itself recorded, the cumulative `dissipation` column."""
+
+    @classmethod
+    def setUpClass(cls):
+        import plot_wear  # noqa: E402  (tools/ is on the path)
+        cls.loop_rows = staticmethod(plot_wear.loop_rows)
+        cls.runs = {m: fretbem("fretting_wear.ini", os.path.join(TMP, "loops_" + m), "grid.n=32",
+                               "load.steps_per_cycle=16", "wear.integrator=" + m,
+                               "wear.cycles=" + n)
+                    for m, n in (("cycle", "6"), ("arkode", "200"))}
+
+    def rows_of(self, mode):
+        ts = fp.read_csv(os.path.join(self.runs[mode], "timeseries.csv"), "test")
+        cy = fp.read_csv(os.path.join(self.runs[mode], "cycles.csv"), "test")
+        return ts, cy
+
+    def check_rows(self, mode):
+        ts, cy = self.rows_of(mode)
+        simulated = np.diff(np.concatenate([[0.0], cy["simulated_cycles"]]))
+        kinds = set()
+        for i, energy in enumerate(cy["energy_per_cycle"]):
+            rows = self.loop_rows(ts["time"], i)
+            self.assertGreaterEqual(len(rows), 3, f"row {i}")
+            self.assertTrue(np.all(np.floor(ts["time"][rows[1:-1]] + 1e-12) == i), f"row {i}")
+            D = ts["dissipation"]
+            if abs(simulated[i] - 1.0) < 1e-9:
+                # One period continuing the previous row's state (cycle by cycle, a stretch,
+                # or ARKODE's continued cycle): from the previous row, which ends at the loop's
+                # start loads, the dissipation grows by exactly the cycle's energy.
+                start = np.flatnonzero(ts["time"] <= i + 1e-9)[-1]
+                self.assertAlmostEqual((D[rows[-1]] - D[start]) / energy, 1.0, delta=1e-12,
+                                       msg=f"row {i}")
+                kinds.add("period")
+            else:
+                # ARKODE's steady cycle of a frozen surface, from a fresh state: its loop's
+                # start (the first turning point) is not written. A loop at constant normal
+                # load under +-Q is odd-symmetric (Masing), so the half-period between its
+                # turning points dissipates half the cycle's energy.
+                self.assertEqual(len(rows), 3, f"row {i}: the two turning points, closed")
+                gained = D[rows[-1]] - D[rows[1]]
+                self.assertAlmostEqual(2 * gained / energy, 1.0, delta=1e-9, msg=f"row {i}")
+                kinds.add("steady")
+        return kinds
+
+    def test_cycle_mode_rows_are_the_cycles_period(self):
+        self.assertEqual(self.check_rows("cycle"), {"period"})
+
+    def test_arkode_rows_are_the_cycles_loop(self):
+        self.assertEqual(self.check_rows("arkode"), {"period", "steady"})
+
+    def test_loop_figure_at_chosen_n(self):
+        out = os.path.join(TMP, "loops.png")
+        r = tool("plot_wear.py", self.runs["arkode"], "--loop-at", "0,50,200", "--loop-out", out,
+                 "--out", os.path.join(TMP, "wear_arkode.png"))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        for path in (out, os.path.splitext(out)[0] + ".pdf"):
+            self.assertGreater(os.path.getsize(path), 1000)
+
+
 if __name__ == "__main__":
     unittest.main(argv=[sys.argv[0]], verbosity=1)

@@ -74,6 +74,21 @@ TEST(Cli, CheckValidatesWithoutRunning) {
   EXPECT_NE(r.out.find("ok"), std::string::npos);
 }
 
+// Cycle counts print as integers (core/format format_count): wear.cycles = 10000 is "10000",
+// not "1e+04" as check printed it (shortest round-trip and %.4g) before session 5.
+TEST(Cli, CheckPrintsWearCyclesAsIntegers) {
+  for (const std::string n : {"10000", "1000000", "4000"}) {
+    const Result r = fretbem("check " + scenario("fretting_wear.ini") +
+                             " --set grid.n=16 --set wear.cycles=" + n);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("wear run of " + n + " cycles"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("wear: " + n + " load cycles"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("(wear.cycles = " + n + " = "), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("cycles = 1e+"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("e+0 cycles"), std::string::npos) << r.out;
+  }
+}
+
 TEST(Cli, RunWritesTheContractColumns) {
   const fs::path dir = fs::temp_directory_path() / ("fretbem_cli_run_" + std::to_string(getpid()));
   fs::remove_all(dir);

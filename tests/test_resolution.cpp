@@ -111,6 +111,9 @@ TEST(SlipRing, RunMatchesTheMindlinRingAndCheckPredictsIt) {
   EXPECT_NEAR(p->a_over_h, 32.0, 1e-9);
   EXPECT_NEAR(p->ring_cells, want, 1e-9);
   EXPECT_EQ(p->edge_share, 0.0);
+  // The contact's share of the unit domain, pi a^2 with a = 1/4: 19.6 %.
+  const auto lines = describe(*p, sc);
+  EXPECT_NE(lines.front().find("(19.6 % of the domain)"), std::string::npos) << lines.front();
 }
 
 // q = 0.05 at n = 64 (a = 16 cells): the ring a (1 - 0.95^(1/3)) = 0.27 cells. check warns and

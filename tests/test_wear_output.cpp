@@ -261,23 +261,34 @@ TEST(WearResume, ErkStopAndResumeWithinTolerance) {
   fs::remove_all(part);
 }
 
+namespace {
+
+// Starts the cycle-mode run of run_args(out, "cycle", N) in the background, sends it `sig`
+// once its cycles.csv holds `rows` rows, and returns its wait status.
+int signal_after_rows(const fs::path& out, int N, std::size_t rows, int sig) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string cmd = "exec " + kBin + " " + run_args(out, "cycle", N) + " > /dev/null";
+    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  for (int i = 0; i < 4000 && read_csv(out / "cycles.csv").rows.size() < rows; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  kill(pid, sig);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return status;
+}
+
+}  // namespace
+
 // A cycle-mode wear run killed with SIGKILL keeps complete rows and resumes to the
 // uninterrupted run's worn depth (round-off), every cycle N listed once.
 TEST(WearResume, KilledRunResumes) {
   const int N = 120;
   const fs::path full = fresh_dir("kill_full"), part = fresh_dir("kill_part");
   ASSERT_EQ(sh(run_args(full, "cycle", N)), 0);
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const std::string cmd = "exec " + kBin + " " + run_args(part, "cycle", N) + " > /dev/null";
-    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  for (int i = 0; i < 4000 && read_csv(part / "cycles.csv").rows.size() < 20; ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  kill(pid, SIGKILL);
-  int status = 0;
-  waitpid(pid, &status, 0);
+  signal_after_rows(part, N, 20, SIGKILL);
   const Csv killed = read_csv(part / "cycles.csv");
   std::printf("[ kill ] %zu of %d cycles.csv rows on disk when killed\n", killed.rows.size(),
               N + 1);
@@ -290,6 +301,26 @@ TEST(WearResume, KilledRunResumes) {
   const auto Nc = read_csv(part / "cycles.csv").column("N");
   ASSERT_EQ(Nc.size(), std::size_t(N + 1));
   for (int k = 0; k <= N; ++k) EXPECT_EQ(Nc[std::size_t(k)], double(k));
+  fs::remove_all(full);
+  fs::remove_all(part);
+}
+
+// SIGINT (Ctrl-C) ends a cycle-mode wear run after the cycle in progress, checkpointed:
+// exit 130, and --resume reaches the uninterrupted run's worn depth (round-off).
+TEST(WearResume, InterruptedRunResumes) {
+  const int N = 120;
+  const fs::path full = fresh_dir("int_full"), part = fresh_dir("int_part");
+  ASSERT_EQ(sh(run_args(full, "cycle", N)), 0);
+  const int status = signal_after_rows(part, N, 20, SIGINT);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const std::size_t rows = read_csv(part / "cycles.csv").rows.size();
+  EXPECT_LT(rows, std::size_t(N + 1));
+  ASSERT_EQ(sh("run --quiet --resume " + part.string()), 0);
+  const auto Wf = h5_field(full / "result.h5", "/wear/final_worn_depth");
+  const auto Wp = h5_field(part / "result.h5", "/wear/final_worn_depth");
+  EXPECT_LE(max_diff(Wf, Wp), 1e-9 * max_abs(Wf));
+  EXPECT_EQ(read_csv(part / "cycles.csv").rows.size(), std::size_t(N + 1));
   fs::remove_all(full);
   fs::remove_all(part);
 }

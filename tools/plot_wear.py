@@ -7,11 +7,11 @@ trial evaluations), and the hysteresis loop F_x - U_x at given N.
 usage: tools/plot_wear.py DIR [--out FILE.png] [--loop-at N1,N2,...] [--loop-out FILE.png]
 Writes FILE.png and FILE.pdf (default DIR/wear.png), and the loops as LOOP.png and LOOP.pdf
 (default DIR/wear_loops.png). --loop-at picks, for each N, the accepted cycle nearest to it
-(default: the first and the last accepted cycle and one between); its loop is the simulated
-cycle's rows of DIR/timeseries.csv (time in (simulated_cycles - 1.25, simulated_cycles]: the
-steady cycle of that surface, loading to the first turning point, then one period; the
-cycle-by-cycle integrator's rows are one period, time in (simulated_cycles - 1,
-simulated_cycles]), drawn with its energy per cycle.
+(default: the first and the last accepted cycle and one between) and draws the rows of that
+simulated cycle from DIR/timeseries.csv (cycles.csv's row i, accepted or not, wrote the rows with
+time in (i, i + 1], in both integrator modes), labelled with its energy per cycle. Wear runs
+solve each monotone segment of the period in one increment, so these rows are the cycle's
+turning points, not the branches of the loop between them.
 """
 import argparse
 import os
@@ -46,6 +46,7 @@ def main():
     x = (np.arange(nx) + 0.5 - 0.5 * nx) * h
     j = ny // 2
     wear = fp.read_csv(os.path.join(a.dir, "cycles.csv"), "plot_wear")
+    wear["row"] = np.arange(len(wear["N"]))  # position in cycles.csv: the loop's time
     keep = wear["accepted"] == 1
     wear = {k: v[keep] for k, v in wear.items()}
 
@@ -102,22 +103,36 @@ def loop_cycles(spec, N):
     return out
 
 
+def loop_rows(time, i):
+    """Row indices of DIR/timeseries.csv that draw the loop of DIR/cycles.csv's row i.
+
+    Every cycles.csv row, accepted or not, is one simulated cycle whose timeseries rows have
+    time = its position i + phase (docs/wear.md): ARKODE's steady cycle writes its loop from
+    the first turning point (phase 0) round to it again (the virgin loading is not written),
+    the cycle-by-cycle mode one period. Its rows are those with time in (i, i + 1]; the loop
+    starts where the last of them ends (same loads, a closed steady loop), drawn first.
+    Checked against runs in tests/plot_tools_test.py (the dissipation along the rows is the
+    cycle's energy)."""
+    rows = np.flatnonzero((time > i + 1e-9) & (time <= i + 1 + 1e-9))
+    return np.concatenate([rows[-1:], rows]) if len(rows) else rows
+
+
 def plot_loops(a, wear):
     ts = fp.read_csv(os.path.join(a.dir, "timeseries.csv"), TOOL)
-    # A steady evaluation simulates 1.25 cycles; the cycle integrator's rows one period each.
-    scn = fp.read_scenario(a.dir)
-    span = 1.0 if scn.get("wear.integrator") == "cycle" else 1.25
     fig, ax = fp.figure(width=3.6, height=3.0)
     ax = ax[0, 0]
     pick = loop_cycles(a.loop_at, wear["N"])
     cmap = fp.plt.get_cmap("viridis")
     for c, i in enumerate(pick):
-        end = wear["simulated_cycles"][i]
-        rows = (ts["time"] > end - span - 1e-9) & (ts["time"] <= end + 1e-9)
+        # i indexes the accepted rows; the loop's time is the row's position in cycles.csv.
+        rows = loop_rows(ts["time"], wear["row"][i])
         col = cmap(c / max(1, len(pick) - 1))
         label = f"N = {fp.count(wear['N'][i])}: {wear['energy_per_cycle'][i]:.3g} J/cycle"
         ax.plot(ts["Ux"][rows] * 1e6, ts["Fx"][rows], ".-", ms=3, color=col, label=label)
-    ax.set(xlabel="U$_x$ (µm)", ylabel="F$_x$ (N)", title="hysteresis loop at N")
+    # Wear runs solve each monotone segment in one increment (docs/wear.md, "Steps
+    # simulated"): the rows are the cycle's turning points, not the branches between them.
+    ax.set(xlabel="U$_x$ (µm)", ylabel="F$_x$ (N)",
+           title="turning points of the cycle at N")
     ax.legend(fontsize=7)
     fp.save(fig, a.loop_out or os.path.join(a.dir, "wear_loops.png"))
 

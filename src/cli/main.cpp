@@ -15,6 +15,8 @@
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/hdf5.hpp"
+#include "fretbem/core/stop_signal.hpp"
 #include "fretbem/history/check_report.hpp"
 #include "fretbem/history/cost_estimate.hpp"
 #include "fretbem/history/model.hpp"
@@ -184,14 +186,14 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
   std::vector<Observer*> obs{&csv, &h5, &cycles, &checkpoint, &resolution};
   if (!quiet) obs.push_back(&progress);
   const std::size_t budget = a.stop_after > 0 ? std::size_t(a.stop_after) : SIZE_MAX;
-  stepper.run(obs, budget);
+  stepper.run(obs, budget, stop_requested);
   if (stepper.memory().next_step < stepper.steps()) {
     save_checkpoint(dir, model, stepper);
     h5.write_xdmf();
     // Steps count rows of timeseries.csv: row 0 is the normal loading (as `check` counts).
-    std::printf("fretbem: stopped after %zu of %zu steps; continue with: fretbem run --resume %s\n",
-                stepper.memory().next_step, stepper.steps(), dir.string().c_str());
-    return 0;
+    const std::string where = std::to_string(stepper.memory().next_step) + " of " +
+                              std::to_string(stepper.steps()) + " steps";
+    return report_stop(where, dir);
   }
   const PathType path = model.scenario.load.path;
   print_summary(stepper.steps(), path == PathType::sine || path == PathType::table, csv.path(),
@@ -199,6 +201,10 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
   if (!resolution.summary().empty()) std::printf("  %s\n", resolution.summary().c_str());
   for (const auto& w : resolution.warnings()) std::fprintf(stderr, "fretbem: %s\n", w.c_str());
   return 0;
+}
+
+void warn_if_any(const std::string& warning) {
+  if (!warning.empty()) std::fprintf(stderr, "fretbem: %s\n", warning.c_str());
 }
 
 // Resume: the checkpoint is validated against the scenario it carries, and the outputs in
@@ -222,17 +228,19 @@ int resume_run(const Args& a) {
   model->run_id = cp.run_id;
   if (model->wear) {
     if (!cp.wear) throw InputError((dir / "checkpoint.h5").string() + ": not a wear run's");
-    check_resume_outputs(dir, cp.run_id, std::size_t(cp.wear->counters.rows));
-    run_wear(*model, a.quiet, &cp, a.stop_after);
-    return 0;
+    warn_if_any(prepare_result_for_resume(
+        dir, *model, cp.run_id,
+        {.rows = std::size_t(cp.wear->counters.rows),
+         .field_steps = std::int64_t(model->path.steps.size()),  // rewritten every cycle
+         .snapshots = cp.wear->snapshots}));
+    return run_wear(*model, a.quiet, &cp, a.stop_after).exit_code;
   }
   if (cp.wear)
     throw InputError((dir / "checkpoint.h5").string() + ": a wear run's, but no wear.law");
-  // A result.h5 torn by a kill during a flush is rebuilt from timeseries.csv (issue 14).
-  if (result_file_torn(dir))
-    std::fprintf(stderr, "fretbem: %s\n",
-                 rebuild_result_file(dir, *model, cp.memory.next_step).c_str());
-  check_resume_outputs(dir, cp.run_id, cp.memory.next_step);
+  // Never written in place: a kill may have torn it (result_recovery.hpp, issue 14).
+  const auto done = std::int64_t(cp.memory.next_step);
+  warn_if_any(prepare_result_for_resume(dir, *model, cp.run_id,
+                                        {.rows = cp.memory.next_step, .field_steps = done}));
   model->surface = cp.surface;
   Stepper stepper(*model);
   const Grid& g = model->scenario.grid;
@@ -243,6 +251,7 @@ int resume_run(const Args& a) {
 }
 
 int cmd_run(const Args& a) {
+  install_stop_signal_handlers(SecondSignal::kills);  // stop at the next step, checkpointed
   if (!a.resume.empty()) return resume_run(a);
   Scenario sc = read_scenario(a);
   if (!a.out.empty()) set_output_dir(sc, a.out);
@@ -251,8 +260,7 @@ int cmd_run(const Args& a) {
   prepare_output_dir(sc.output.dir, a.overwrite);
   model->run_id = new_run_id();
   if (model->wear) {  // wear runs: their own driver and checkpoints
-    run_wear(*model, a.quiet, nullptr, a.stop_after);
-    return 0;
+    return run_wear(*model, a.quiet, nullptr, a.stop_after).exit_code;
   }
   Stepper stepper(*model);
   return run_model(*model, stepper, -1, a);
@@ -268,7 +276,7 @@ int cmd_check(const Args& a) {
                 sc.grid.ny, model->path.steps.size());
   else
     std::printf("%s: ok (%d x %d grid, wear run of %s cycles)\n", a.scenario.c_str(), sc.grid.nx,
-                sc.grid.ny, format_number(sc.wear.cycles).c_str());
+                sc.grid.ny, format_count(sc.wear.cycles).c_str());
   std::fputs(check_report(*model).c_str(), stdout);
   // Resolution and domain predicted from Hertz for spheres (issues 17 §3, 18).
   if (const auto p = predict_sphere(sc, model->path))
@@ -367,6 +375,7 @@ std::string describe(const std::filesystem::filesystem_error& e) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  fretbem::hdf5::no_library_close_at_exit();  // a full disk must end in a message, not SIGSEGV
   try {
     const Args a = parse_args(argc, argv);
     if (a.command == "help") return std::fputs(kUsage, stdout), 0;

@@ -1,8 +1,15 @@
 #include "fretbem/core/hdf5.hpp"
 
+#include <stdexcept>
+
 namespace fretbem::hdf5 {
 
 namespace {
+
+herr_t collect_link(hid_t, const char* name, const H5L_info_t*, void* out) {
+  static_cast<std::vector<std::string>*>(out)->emplace_back(name);
+  return 0;
+}
 
 herr_t innermost_error(unsigned n, const H5E_error2_t* err, void* data) {
   if (n == 0 && err && err->desc) *static_cast<std::string*>(data) = err->desc;
@@ -22,6 +29,17 @@ Quiet::~Quiet() {
 
 void silence() {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
+void no_library_close_at_exit() {
+  H5dont_atexit();
+}
+
+std::vector<std::string> link_names(hid_t group) {
+  std::vector<std::string> names;
+  if (H5Literate(group, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect_link, &names) < 0)
+    throw std::runtime_error("cannot list a group: " + last_error());
+  return names;
 }
 
 std::string last_error() {

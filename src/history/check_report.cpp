@@ -62,7 +62,7 @@ std::vector<std::pair<std::string, std::string>> ignored_keys(const Scenario& sc
 void wear_lines(const Model& m, std::ostringstream& o) {
   const WearSpec& w = m.scenario.wear;
   if (w.law == WearLaw::none) return;
-  o << "  wear: " << num(w.cycles)
+  o << "  wear: " << format_count(w.cycles)
     << " load cycles (wear.cycles); wear runs ignore load.cycles and simulate the first\n"
     << "        period of the load path (docs/wear.md)\n";
 }

@@ -1,7 +1,6 @@
 // Calibrated cost estimate of a stepped run (see cost_estimate.hpp).
 #include "fretbem/history/cost_estimate.hpp"
 
-#include <chrono>
 #include <cstdio>
 
 #include "fretbem/core/format.hpp"
@@ -13,26 +12,33 @@ namespace fretbem {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 std::string num(double v, const char* fmt = "%.2g") {
   return format_printf(fmt, v);
+}
+
+// The index of the path's second turning point (the end of the first reversal), or the last
+// step when there is none before it: the steps after it are settled.
+std::size_t settled_from(const LoadPath& path) {
+  int turnings = 0;
+  for (std::size_t i = 1; i + 1 < path.steps.size(); ++i)
+    if (path.steps[i].turning && ++turnings == 2) return i;
+  return path.steps.size();
 }
 
 }  // namespace
 
 RunCostEstimate estimate_run_cost(const Scenario& sc) {
   RunCostEstimate e;
-  const auto t0 = Clock::now();
+  const double cpu0 = process_cpu_seconds();
   auto model = build_model(sc);
   Stepper stepper(*model);
   const std::size_t steps = stepper.steps();
-  // Wall time and convolutions of the solves alone (the operators' set-up excluded).
+  // CPU time and convolutions of the solves alone (the operators' set-up excluded).
   double solve_seconds = 0.0, convolutions = 0.0, tangential = 0.0;
   auto timed = [&](std::size_t k) {
-    const auto t = Clock::now();
+    const double t = process_cpu_seconds();
     const StepRecord r = stepper.advance(k);
-    solve_seconds += seconds_since(t);
+    solve_seconds += process_cpu_seconds() - t;
     convolutions += r.convolutions;
     return double(r.convolutions);
   };
@@ -40,7 +46,7 @@ RunCostEstimate estimate_run_cost(const Scenario& sc) {
   std::size_t k = 1;
   for (; k < steps && int(k) <= kCalibrationSteps; ++k) {
     tangential += timed(k);
-    if (seconds_since(t0) > kCalibrationSeconds) {
+    if (process_cpu_seconds() - cpu0 > kCalibrationSeconds) {
       ++k;
       break;
     }
@@ -48,15 +54,18 @@ RunCostEstimate estimate_run_cost(const Scenario& sc) {
   const std::size_t calibrated = k - 1;  // tangential steps solved
   e.calibration_steps = int(k);
   const double per_step = calibrated > 0 ? tangential / double(calibrated) : 0.0;
-  e.convolutions = step0 + tangential + per_step * double(steps - k);
+  const std::size_t settled = settled_from(model->path);
+  double remaining = 0.0;  // remaining steps weighted by their cost relative to the calibrated
+  for (std::size_t i = k; i < steps; ++i) remaining += i > settled ? kSettledStepShare : 1.0;
+  e.convolutions = step0 + tangential + per_step * remaining;
   e.seconds = convolutions > 0 ? e.convolutions * solve_seconds / convolutions : solve_seconds;
-  e.calibration_seconds = seconds_since(t0);
+  e.calibration_seconds = process_cpu_seconds() - cpu0;
   return e;
 }
 
 std::string describe(const RunCostEstimate& e, std::size_t steps) {
   return "  cost: about " + num(e.convolutions, "%.3g") + " FFT convolutions, " + num(e.seconds) +
-         " s (from " + std::to_string(e.calibration_steps) + " of " + std::to_string(steps) +
+         " s of CPU (from " + std::to_string(e.calibration_steps) + " of " + std::to_string(steps) +
          " steps solved in " + num(e.calibration_seconds) + " s; outputs not counted)\n";
 }
 

@@ -126,7 +126,8 @@ std::vector<std::string> describe(const SpherePrediction& p, const Scenario& sc)
   std::vector<std::string> out;
   auto num = [](double v) { return format_number(std::round(v * 100) / 100); };
   out.push_back("Hertz contact radius a = " + format_number(p.a) + " m = " + num(p.a_over_h) +
-                " cells, about " + num(std::round(p.contact_nodes)) + " contact nodes");
+                " cells, about " + num(std::round(p.contact_nodes)) + " contact nodes (" +
+                percent(p.contact_nodes / (double(sc.grid.nx) * sc.grid.ny)) + " of the domain)");
   if (p.q > 0 && p.q < 1)
     out.push_back("slip ring at the load peaks a (1 - (1 - q)^(1/3)) = " + num(p.ring_cells) +
                   " cells (q = " + num(p.q) + ")");

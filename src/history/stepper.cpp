@@ -14,9 +14,10 @@ Stepper::Stepper(Model& model)
   if (model_.cycle_predictor) repeated_later_ = CyclePredictor::repeated_later(model_.path.steps);
 }
 
-std::size_t Stepper::run(const std::vector<Observer*>& observers, std::size_t max_steps) {
+std::size_t Stepper::run(const std::vector<Observer*>& observers, std::size_t max_steps,
+                         const std::function<bool()>& stop) {
   std::size_t done = 0;
-  for (std::size_t k = next_; k < steps() && done < max_steps; ++k, ++done) {
+  for (std::size_t k = next_; k < steps() && done < max_steps && !(stop && stop()); ++k, ++done) {
     const StepRecord rec = advance(k);
     for (auto* o : observers) o->on_step(rec, state_, model_);
   }
@@ -102,7 +103,7 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
 // run) and hand the inputs to the caller, which writes them to DIR/failed_solve.h5.
 void Stepper::fail(const StepRecord& rec, const SolverError& e, FailedSolve f) const {
   std::string where = "step " + std::to_string(rec.step) + ", cycle " + std::to_string(rec.cycle);
-  if (wear_cycle_ >= 0.0) where = "wear cycle N = " + format_number(wear_cycle_) + ", " + where;
+  if (wear_cycle_ >= 0.0) where = "wear cycle N = " + format_count(wear_cycle_) + ", " + where;
   f.scenario = model_.scenario.resolved_text;
   throw IncrementFailure(where + ": " + e.what(), std::move(f), model_.scenario.output.dir);
 }

@@ -125,6 +125,9 @@ std::vector<char> checkpoint_image(const Model& model, const Stepper& stepper,
   write_field(f.get(), "surface", model.surface);
   if (!stepper.predictor().empty())
     write_vector(f.get(), "predictor", stepper.predictor().flatten());
+  const InputDigest inputs = input_digest(model);
+  write_text(f.get(), "input_digest_path", inputs.path);
+  write_text(f.get(), "input_digest_surface", inputs.surface);
   if (wear) write_wear(f.get(), *wear);
   if (H5Fflush(f.get(), H5F_SCOPE_GLOBAL) < 0) write_failed("(flush)");
   const ssize_t size = H5Fget_file_image(f.get(), nullptr, 0);
@@ -362,6 +365,8 @@ Checkpoint load_checkpoint(const fs::path& dir) {
   c.surface = r.field("surface");
   c.wear = read_wear(r);
   if (r.exists("predictor")) c.predictor = r.array("predictor", nullptr);
+  if (r.exists("input_digest_path") && r.exists("input_digest_surface"))
+    c.inputs = InputDigest{r.text("input_digest_path"), r.text("input_digest_surface")};
   return c;
 }
 

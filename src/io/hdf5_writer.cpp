@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 #include <system_error>
 
@@ -162,6 +163,54 @@ void Hdf5Writer::Impl::open_timeseries() {
   }
 }
 
+namespace {
+
+template <typename T>
+T read_scalar_attribute(hid_t loc, const char* name, hid_t mem_type) {
+  AttrH a(H5Aopen(loc, name, H5P_DEFAULT));
+  T value{};
+  if (!a.valid() || H5Aread(a.get(), mem_type, &value) < 0)
+    throw std::runtime_error(std::string("attribute ") + name + " unreadable");
+  return value;
+}
+
+}  // namespace
+
+// A group of write_step_fields' layout read whole into memory: any damage (an unreadable
+// attribute, field or chunk, a name that is not PREFIX%06d of its step) throws.
+struct StepGroup {
+  std::int64_t step = 0;
+  double time = 0.0;
+  std::string prefix;
+  std::map<std::string, Field> fields;
+};
+
+StepGroup read_step_group(hid_t source, const std::string& name) {
+  GroupH from(H5Gopen2(source, name.c_str(), H5P_DEFAULT));
+  if (!from.valid()) throw std::runtime_error("cannot open " + name);
+  StepGroup g;
+  g.step = read_scalar_attribute<std::int64_t>(from.get(), "step", H5T_NATIVE_INT64);
+  g.time = read_scalar_attribute<double>(from.get(), "time", H5T_NATIVE_DOUBLE);
+  char num[32];
+  std::snprintf(num, sizeof num, "%06lld", static_cast<long long>(g.step));
+  if (name.size() < std::strlen(num) || name.substr(name.size() - std::strlen(num)) != num)
+    throw std::runtime_error(name + " is not the group of its step");
+  g.prefix = name.substr(0, name.size() - std::strlen(num));
+  for (const auto& f : hdf5::link_names(from.get())) {
+    DatasetH d(H5Dopen2(from.get(), f.c_str(), H5P_DEFAULT));
+    SpaceH space(d.valid() ? H5Dget_space(d.get()) : -1);
+    hsize_t dims[2] = {0, 0};
+    if (!space.valid() || H5Sget_simple_extent_ndims(space.get()) != 2 ||
+        H5Sget_simple_extent_dims(space.get(), dims, nullptr) < 0)
+      throw std::runtime_error("cannot read " + name + "/" + f);
+    Field field(static_cast<Eigen::Index>(dims[1]), static_cast<Eigen::Index>(dims[0]));
+    if (H5Dread(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, field.data()) < 0)
+      throw std::runtime_error("cannot read " + name + "/" + f);
+    g.fields.emplace(f, std::move(field));
+  }
+  return g;
+}
+
 Hdf5Writer::Hdf5Writer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
 Hdf5Writer::Hdf5Writer(const fs::path& dir, const std::string& name)
@@ -194,6 +243,11 @@ Hdf5Writer& Hdf5Writer::operator=(Hdf5Writer&&) noexcept = default;
 
 const fs::path& Hdf5Writer::path() const {
   return impl_->path;
+}
+
+void Hdf5Writer::close() {
+  impl_->timeseries.close();
+  if (impl_->file.close() < 0) impl_->fail("close");
 }
 
 void Hdf5Writer::describe(const Grid& grid, const fs::path& output_dir) {
@@ -237,6 +291,28 @@ void Hdf5Writer::write_step_fields(std::int64_t step, double time,
   impl_->write_attribute(g.get(), "time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &time);
   for (const auto& [field_name, field] : fields) impl_->write_field(g.get(), field_name, field);
   impl_->flush();
+}
+
+std::vector<std::string> Hdf5Writer::copy_step_groups(const fs::path& source,
+                                                      const std::vector<std::string>& groups) {
+  // Read whole, then written as a run writes them (H5Ocopy of HDF5 1.10.8 crashed in its
+  // error path when the destination disk filled up): a read failure is the source's damage
+  // and leaves the group out, a write failure is this file's and throws.
+  std::vector<std::string> failed;
+  FileH src(H5Fopen(source.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
+  for (const auto& name : groups) {
+    StepGroup g;
+    try {
+      if (!src.valid()) throw std::runtime_error("cannot open the source");
+      g = read_step_group(src.get(), name);
+    } catch (const std::exception&) {
+      hdf5::last_error();  // clears the stack
+      failed.push_back(name);
+      continue;
+    }
+    write_step_fields(g.step, g.time, g.fields, g.prefix);
+  }
+  return failed;
 }
 
 void Hdf5Writer::start_timeseries(const std::vector<std::string>& columns) {

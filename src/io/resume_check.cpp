@@ -1,16 +1,12 @@
 #include "fretbem/io/resume_check.hpp"
 
-#include <hdf5.h>
-
 #include <chrono>
 #include <cmath>
 #include <random>
 #include <vector>
 
-#include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
-#include "fretbem/core/hdf5.hpp"
-#include "fretbem/io/hdf5_writer.hpp"
+#include "fretbem/core/format.hpp"
 
 namespace fretbem {
 
@@ -47,55 +43,11 @@ void check_wear(const fs::path& file, const WearCheckpoint& w, const Model& m) {
   check_field(file, "wear_worn", w.worn, m.scenario.grid);
   check_scalar(file, "wear N", w.N);
   if (w.N < 0 || w.N > m.scenario.wear.cycles)
-    refuse(file, "wear N = " + std::to_string(w.N) + " outside [0, wear.cycles]");
+    refuse(file, "wear N = " + format_count(w.N) + " outside [0, wear.cycles]");
   check_scalar(file, "wear h_next", w.h_next);
   if (std::isnan(w.h_max) || w.h_max <= 0 || w.h_next < 0)
     refuse(file, "wear step sizes out of range");
   check_scalar(file, "wear simulated cycles", w.counters.simulated);
-}
-
-// A scalar variable-length string dataset of result.h5 (written by Hdf5Writer::write_text).
-std::string read_h5_text(hid_t file, const char* name, const fs::path& path) {
-  if (H5Lexists(file, name, H5P_DEFAULT) <= 0) refuse(path, std::string("no ") + name);
-  hdf5::Dataset d(H5Dopen2(file, name, H5P_DEFAULT));
-  hdf5::Type type(d.valid() ? H5Dget_type(d.get()) : -1);
-  hdf5::Space space(d.valid() ? H5Dget_space(d.get()) : -1);
-  if (!type.valid() || H5Tis_variable_str(type.get()) <= 0 ||
-      H5Sget_simple_extent_type(space.get()) != H5S_SCALAR)
-    refuse(path, std::string(name) + " is not a text dataset");
-  char* p = nullptr;
-  if (H5Dread(d.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0)
-    refuse(path, std::string("cannot read ") + name);
-  std::string s = p ? p : "";
-  H5free_memory(p);
-  return s;
-}
-
-// The first `rows` rows of result.h5's /timeseries, row-major.
-std::vector<double> read_h5_rows(hid_t file, std::size_t rows, std::size_t cols,
-                                 const fs::path& path) {
-  if (H5Lexists(file, "timeseries", H5P_DEFAULT) <= 0) refuse(path, "no /timeseries");
-  hdf5::Dataset d(H5Dopen2(file, "timeseries", H5P_DEFAULT));
-  hdf5::Space space(d.valid() ? H5Dget_space(d.get()) : -1);
-  hsize_t dims[2] = {0, 0};
-  if (H5Sget_simple_extent_ndims(space.get()) != 2 ||
-      H5Sget_simple_extent_dims(space.get(), dims, nullptr) < 0 || dims[1] != cols)
-    refuse(path, "/timeseries has the wrong shape");
-  if (dims[0] < rows)
-    refuse(path, "/timeseries has " + std::to_string(dims[0]) +
-                     " rows but the checkpoint is after " + std::to_string(rows));
-  std::vector<double> out(rows * cols);
-  if (rows == 0) return out;
-  const hsize_t start[2] = {0, 0}, count[2] = {rows, cols};
-  H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr);
-  hdf5::Space mem(H5Screate_simple(2, count, nullptr));
-  if (H5Dread(d.get(), H5T_NATIVE_DOUBLE, mem.get(), space.get(), H5P_DEFAULT, out.data()) < 0)
-    refuse(path, "cannot read /timeseries");
-  return out;
-}
-
-bool same(double a, double b) {
-  return a == b || (std::isnan(a) && std::isnan(b));
 }
 
 }  // namespace
@@ -126,6 +78,7 @@ void prepare_output_dir(const fs::path& dir, bool overwrite) {
 }
 
 void validate_checkpoint(const Checkpoint& cp, const Model& m, const fs::path& file) {
+  if (cp.inputs) check_input_digest(*cp.inputs, m);
   const Grid& g = m.scenario.grid;
   const InterfaceState& s = cp.state;
   const int nc = m.tangential_operator->components();
@@ -166,33 +119,6 @@ void validate_checkpoint(const Checkpoint& cp, const Model& m, const fs::path& f
   } catch (const std::runtime_error& e) {
     refuse(file, e.what());
   }
-}
-
-void check_resume_outputs(const fs::path& dir, const std::string& run_id, std::size_t rows) {
-  hdf5::silence();
-  const fs::path h5 = dir / io::Hdf5Writer::file_name;
-  const fs::path csv_path = dir / "timeseries.csv";
-  std::error_code ec;
-  if (!fs::is_regular_file(h5, ec)) refuse(h5, "missing");
-  hdf5::File f(H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
-  if (!f.valid()) refuse(h5, "cannot open (damaged?)");
-  const std::string id = read_h5_text(f.get(), "run_id", h5);
-  if (id != run_id)
-    refuse(h5, "run id " + id + " is not the checkpoint's " + run_id +
-                   " (the outputs belong to another run)");
-  if (!fs::is_regular_file(csv_path, ec)) refuse(csv_path, "missing");
-  const auto table = csv::read_table(csv_path, {.allow_nan = true, .max_rows = rows});
-  if (table.rows.size() < rows)
-    refuse(csv_path, "has " + std::to_string(table.rows.size()) +
-                         " rows but the checkpoint is after " + std::to_string(rows));
-  const auto& header = table.columns;
-  const std::size_t cols = header.size();
-  const auto ref = read_h5_rows(f.get(), rows, cols, h5);
-  for (std::size_t r = 0; r < rows; ++r)
-    for (std::size_t c = 0; c < cols; ++c)
-      if (c >= table.rows[r].size() || !same(table.rows[r][c], ref[r * cols + c]))
-        refuse(csv_path, "row " + std::to_string(r + 1) + ", column " + header[c] +
-                             " differs from result.h5's /timeseries");
 }
 
 }  // namespace fretbem

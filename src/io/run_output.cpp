@@ -1,10 +1,12 @@
 #include "fretbem/io/run_output.hpp"
 
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/stop_signal.hpp"
 #include "fretbem/history/load_path.hpp"
 #include "fretbem/history/resolution.hpp"
 #include "fretbem/io/xdmf_writer.hpp"
@@ -85,17 +87,36 @@ void TimeseriesCsv::on_step(const StepRecord& rec, const InterfaceState&, const 
   csv_.row(rec.values());
 }
 
+int report_stop(const std::string& where, const std::filesystem::path& dir) {
+  const int sig = stop_signal();
+  if (sig == 0) {
+    std::printf("fretbem: stopped after %s; continue with: fretbem run --resume %s\n",
+                where.c_str(), dir.string().c_str());
+    return 0;
+  }
+  std::fprintf(stderr,
+               "fretbem: stopped by %s after %s, checkpoint written; continue with: fretbem run "
+               "--resume %s\n",
+               sig == SIGINT ? "SIGINT" : "SIGTERM", where.c_str(), dir.string().c_str());
+  return 128 + sig;
+}
+
+void write_result_header(io::Hdf5Writer& h5, const Model& m) {
+  h5.describe(m.scenario.grid, m.scenario.output.dir);
+  h5.write_text("/run_id", m.run_id);
+  h5.write_text("/scenario", m.scenario.resolved_text);
+  h5.write_field("/surface/initial", m.surface0);
+  h5.start_timeseries(StepRecord::columns());
+}
+
 ResultFile::ResultFile(const std::filesystem::path& dir, const Model& m, long resume_rows)
     : h5_(resume_rows >= 0 ? io::Hdf5Writer::open_existing(dir) : io::Hdf5Writer(dir)) {
-  h5_.describe(m.scenario.grid, m.scenario.output.dir);
-  if (resume_rows >= 0) {
-    h5_.truncate_timeseries(std::size_t(resume_rows));
+  if (resume_rows < 0) {
+    write_result_header(h5_, m);
     return;
   }
-  h5_.write_text("/run_id", m.run_id);
-  h5_.write_text("/scenario", m.scenario.resolved_text);
-  h5_.write_field("/surface/initial", m.surface0);
-  h5_.start_timeseries(StepRecord::columns());
+  h5_.describe(m.scenario.grid, m.scenario.output.dir);
+  h5_.truncate_timeseries(std::size_t(resume_rows));
 }
 
 void ResultFile::on_step(const StepRecord& rec, const InterfaceState& s, const Model& m) {

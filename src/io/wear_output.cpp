@@ -1,10 +1,12 @@
 // `fretbem run` for scenarios with a wear law: the wear outputs and checkpoints around
 // integrate_wear.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/stop_signal.hpp"
 #include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/csv_writer.hpp"
 #include "fretbem/io/run_output.hpp"
@@ -13,6 +15,13 @@
 namespace fretbem {
 
 namespace {
+
+// Simulated cycles are sums of fractions of a period (a steady cycle counts 1.2 at one step
+// per ramp step): printed to 1e-6 cycles so summation round-off ("67.80000000000007") does not
+// show; whole counts as integers.
+std::string simulated_count(double simulated) {
+  return format_count(std::round(simulated * 1e6) / 1e6);
+}
 
 // DIR/cycles.csv of a wear run: one row per simulated cycle (issue 6), then the bookkeeping
 // columns; the per-body volumes split wear_volume by wear.indenter_share.
@@ -46,6 +55,7 @@ class WearFiles final : public WearLog {
         progress_(!quiet) {
     if (resume) rows_ = resume->cycles_rows, snapshots_ = resume->snapshots;
   }
+  bool stop_requested() const override { return fretbem::stop_requested(); }
   void cycle(const WearCycle& c) override {
     const double s = model_.scenario.wear.indenter_share;
     // N is the count a cycle stands for: integral in cycle mode and stretches (summed ones),
@@ -80,7 +90,7 @@ class WearFiles final : public WearLog {
   void progress(double N, double simulated) {
     const double total = model_.scenario.wear.cycles;
     progress_.update("wear: N " + format_count(N) + " / " + format_count(total) +
-                         "  simulated cycles " + format_count(simulated),
+                         "  simulated cycles " + simulated_count(simulated),
                      N / total);
   }
   const Model& model_;
@@ -114,9 +124,9 @@ WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume, long max
   WearReport rep = integrate_wear(model, sim, &log, at, max_steps);
   log.done();
   if (rep.stopped) {
-    std::printf("fretbem: stopped at N = %s of %s; continue with: fretbem run --resume %s\n",
-                format_count(rep.N).c_str(), format_count(model.scenario.wear.cycles).c_str(),
-                dir.string().c_str());
+    rep.exit_code = report_stop("N = " + format_count(rep.N) + " of " +
+                                    format_count(model.scenario.wear.cycles) + " cycles",
+                                dir);
     return rep;
   }
   h5.on_finish(stepper.state(), model);
@@ -138,7 +148,7 @@ WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume, long max
     const double s = model.scenario.wear.indenter_share;
     const bool cycles = rep.cycle_by_cycle;
     std::printf("fretbem: wear to N = %s with %s simulated cycles (%d wear-map evaluations",
-                format_count(rep.N).c_str(), format_count(rep.simulated_cycles).c_str(),
+                format_count(rep.N).c_str(), simulated_count(rep.simulated_cycles).c_str(),
                 rep.rhs_evaluations);
     if (cycles)
       std::printf(", cycle by cycle)\n");

@@ -20,6 +20,7 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/resources.hpp"
+#include "fretbem/core/stop_signal.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/study/subprocess.hpp"
 #include "fretbem/study/sweep_runner.hpp"
@@ -119,7 +120,7 @@ bool run_members(const EnsembleOptions& o, std::vector<Member>& members, int job
     report(o, m, ++done, int(members.size()));
   };
   while (next < members.size() || !running.empty()) {
-    if (sweep_stop_requested()) {
+    if (stop_requested()) {
       for (const auto& [pid, m] : running) kill(pid, SIGTERM);
       for (const auto& [pid, m] : running) finish(*m, wait_child(pid));
       return false;
@@ -147,7 +148,7 @@ bool run_members(const EnsembleOptions& o, std::vector<Member>& members, int job
     }
     if (!reaped) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  return !sweep_stop_requested();
+  return !stop_requested();
 }
 
 }  // namespace
@@ -301,7 +302,7 @@ int run_ensemble(const EnsembleOptions& opt) {
       m.hurst = H, m.seed = s, m.dir = member_dir(H, s);
       members.push_back(m);
     }
-  install_sweep_signal_handlers();
+  install_stop_signal_handlers();
   const bool complete = run_members(o, members, o.jobs);
   const Curves curves = load_curves(o, members, mu);
   write_members(o.out / "members.csv", members);

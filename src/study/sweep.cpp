@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/stop_signal.hpp"
 #include "fretbem/history/resolution.hpp"
 #include "fretbem/study/mpi_queue.hpp"
 #include "fretbem/study/sweep_aggregate.hpp"
@@ -95,7 +96,7 @@ int run_sweep_command(const SweepCommand& c) {
   if (cmd.list) return print_member_commands(cmd, spec), 0;
   if (cmd.aggregate) return aggregate(spec, cmd.options.quiet);
   fs::create_directories(spec.out);
-  install_sweep_signal_handlers();
+  install_stop_signal_handlers();
   if (cmd.member >= 0) {
     auto queue = make_local_queue(one_member(spec, cmd.member));
     if (!run_sweep_members(spec, *queue, cmd.options)) return kExitStopped;

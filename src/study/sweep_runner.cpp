@@ -9,6 +9,7 @@
 
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/resources.hpp"
+#include "fretbem/core/stop_signal.hpp"
 #include "fretbem/study/subprocess.hpp"
 
 namespace fretbem {
@@ -22,13 +23,6 @@ constexpr const char* kStatusFile = "sweep_member.txt";
 // study was killed without a chance to record it): both count as interrupted.
 constexpr const char* kInterrupted = "interrupted (study stopped)";
 constexpr const char* kRunning = "running (or killed while running)";
-
-// The one piece of process-wide state: a signal handler can only set a flag.
-volatile std::sig_atomic_t g_stop = 0;
-
-extern "C" void on_stop_signal(int) {
-  g_stop = 1;
-}
 
 void write_status(const fs::path& dir, const MemberStatus& s) {
   const fs::path tmp = dir / (std::string(kStatusFile) + ".tmp");
@@ -83,7 +77,7 @@ class Runner {
       it = running_.erase(it);
       const fs::path log = spec_.out / spec_.member_dir(k) / "log.txt";
       // Ctrl-C reaches the members too: one that died of it while we stop was interrupted.
-      const bool interrupted = *code > 128 && sweep_stop_requested();
+      const bool interrupted = *code > 128 && stop_requested();
       finish(k, *code, s, *code == 0 ? "" : interrupted ? kInterrupted : last_line(log));
       any = true;
     }
@@ -127,18 +121,6 @@ class Runner {
 };
 
 }  // namespace
-
-void install_sweep_signal_handlers() {
-  struct sigaction sa {};
-  sa.sa_handler = on_stop_signal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGTERM, &sa, nullptr);
-  sigaction(SIGINT, &sa, nullptr);
-}
-
-bool sweep_stop_requested() {
-  return g_stop != 0;
-}
 
 MemberStatus read_member_status(const fs::path& dir) {
   MemberStatus s;
@@ -208,7 +190,7 @@ bool run_sweep_members(const SweepSpec& spec, MemberQueue& queue, const SweepOpt
   Runner runner(spec, opt);
   bool exhausted = false, stopped = false;
   for (;;) {
-    if (sweep_stop_requested() && !stopped) {
+    if (stop_requested() && !stopped) {
       stopped = true;
       runner.stop_all();
       if (!exhausted) queue.next(true), exhausted = true;  // tell rank 0 (MPI) we are done

@@ -80,7 +80,7 @@ WearReport integrate_cycles(Model& model, WearCycles& cyc, WearLog* log,
       at.next_snapshot = long(next_snap);
       log->step_done(at);
     }
-    if (max_steps >= 0 && ++taken >= max_steps) {
+    if ((max_steps >= 0 && ++taken >= max_steps) || (log && log->stop_requested())) {
       rep.stopped = true;
       rep.N = N + 1.0;
       break;
@@ -303,7 +303,7 @@ void check(int flag, const char* what, double N = -1.0) {
   if (flag >= 0) return;
   char* name = ARKStepGetReturnFlagName(flag);  // malloc'ed by SUNDIALS
   std::string msg = std::string("wear integrator (ARKODE): ") + what + " failed";
-  if (N >= 0.0) msg += " at wear cycle N = " + format_number(N);
+  if (N >= 0.0) msg += " at wear cycle N = " + format_count(N);
   msg += std::string(": ") + (name ? name : "unknown flag") + " (flag " + std::to_string(flag) +
          "); check wear.coefficient and wear.cycles, or try wear.integrator = cycle or other "
          "wear.rtol / wear.atol";
@@ -556,7 +556,7 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegr
         at.implicit = implicit;
         log->step_done(at);
       }
-      if (max_steps >= 0 && ++taken >= max_steps) {
+      if ((max_steps >= 0 && ++taken >= max_steps) || (log && log->stop_requested())) {
         rep.stopped = true;
         break;
       }

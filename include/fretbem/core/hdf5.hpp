@@ -6,6 +6,7 @@
 #include <hdf5.h>
 
 #include <string>
+#include <vector>
 
 namespace fretbem::hdf5 {
 
@@ -63,6 +64,16 @@ class Quiet {
 /// Switches HDF5's own error printing off for the rest of the process (writers that keep a
 /// file open across many calls; readers use Quiet).
 void silence();
+
+/// Keeps HDF5 from closing its library (and every file still known to it) at exit. Call
+/// first thing in main. A file whose flush failed on a full disk stays registered and its
+/// close at exit crashed (SIGSEGV in H5F__close_cb from H5_term_library, HDF5 1.10.8) after
+/// the run had reported the error; fretbem's handles close every file themselves.
+void no_library_close_at_exit();
+
+/// The names of the links in a group (or file root), by name; throws std::runtime_error if
+/// the group cannot be listed.
+std::vector<std::string> link_names(hid_t group);
 
 /// The most specific message on the HDF5 error stack, which is then cleared.
 std::string last_error();

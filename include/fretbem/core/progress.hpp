@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <string>
 
 namespace fretbem {
@@ -10,6 +11,13 @@ namespace fretbem {
 /// Seconds elapsed on the steady clock since t0.
 inline double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// CPU seconds this process has used so far (all threads). Cost estimates are in CPU time: on a
+/// loaded machine, predictions from wall time were 1.2-5.5x the runs' CPU seconds
+/// (docs/reliability.md, "Accuracy of check's cost estimate").
+inline double process_cpu_seconds() {
+  return double(std::clock()) / CLOCKS_PER_SEC;
 }
 
 /// Reports where a run stands, with elapsed time and an ETA. On a terminal one line is

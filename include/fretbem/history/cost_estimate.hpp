@@ -1,6 +1,7 @@
 // What a run will cost, before it runs (`fretbem check`, issue 19): the first steps of the
 // load path are solved at the scenario's grid (a calibration), their FFT convolutions per step
-// and wall seconds per convolution are extrapolated to the whole path.
+// and CPU seconds per convolution are extrapolated to the whole path. Measured accuracy:
+// docs/reliability.md ("Accuracy of check's cost estimate").
 #pragma once
 
 #include <string>
@@ -11,20 +12,28 @@ namespace fretbem {
 
 struct RunCostEstimate {
   double convolutions = 0.0;         ///< predicted FFT convolutions of the whole run
-  double seconds = 0.0;              ///< predicted wall time of the solves (s), outputs excluded
+  double seconds = 0.0;              ///< predicted CPU time of the solves (s), outputs excluded
   int calibration_steps = 0;         ///< steps solved to calibrate (step 0 included)
-  double calibration_seconds = 0.0;  ///< wall time of the calibration, operators built (s)
+  double calibration_seconds = 0.0;  ///< CPU time of the calibration, operators built (s)
 };
 
 /// Calibration budget: step 0 (the normal loading), then tangential steps until
-/// kCalibrationSteps of them ran or the calibration took kCalibrationSeconds (at least one).
+/// kCalibrationSteps of them ran or the calibration took kCalibrationSeconds of CPU (at least
+/// one).
 inline constexpr int kCalibrationSteps = 4;
 inline constexpr double kCalibrationSeconds = 1.0;
 
+/// Cost of a tangential step after the path's second turning point (the first reversal
+/// completed) relative to the first steps: the later half-cycles start from the stick set of
+/// the previous one in the same direction. Measured steady/first-step convolution ratios:
+/// 0.45 (Mindlin n = 64), 0.53 (n = 128), 0.59 (rough cycle n = 128), docs/reliability.md.
+inline constexpr double kSettledStepShare = 0.5;
+
 /// Builds the model (operators included), solves the first steps and extrapolates: the
 /// convolutions of step 0 plus the mean of the calibrated tangential steps times the steps
-/// left; seconds = convolutions x the calibration's wall seconds per convolution. Writes no
-/// file. Not for wear runs (estimate_wear_cost).
+/// left (those past the second turning point at kSettledStepShare); seconds = convolutions x
+/// the calibration's CPU seconds per convolution. Writes no file. Not for wear runs
+/// (estimate_wear_cost).
 RunCostEstimate estimate_run_cost(const Scenario& sc);
 
 /// The report line(s) of `fretbem check`, each ending in '\n'.

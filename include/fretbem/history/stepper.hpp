@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "fretbem/history/cycle_predictor.hpp"
@@ -39,9 +40,11 @@ class Stepper {
   static constexpr double kSlipThreshold = 4.0;
 
   explicit Stepper(Model& model);
-  /// Runs the remaining steps of the path (at most max_steps of them), notifying the
-  /// observers after each; on_finish only when the path is complete. Returns steps run.
-  std::size_t run(const std::vector<Observer*>& observers, std::size_t max_steps = SIZE_MAX);
+  /// Runs the remaining steps of the path (at most max_steps of them, and none after `stop`
+  /// returns true), notifying the observers after each; on_finish only when the path is
+  /// complete. Returns steps run.
+  std::size_t run(const std::vector<Observer*>& observers, std::size_t max_steps = SIZE_MAX,
+                  const std::function<bool()>& stop = {});
   /// Runs step k only (k = 0 is the initial normal loading); returns its record.
   StepRecord advance(std::size_t k);
   /// Runs one step given explicitly (wear cycles replay the path's cycle); `index` is its row.

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "fretbem/history/stepper.hpp"
+#include "fretbem/io/input_digest.hpp"
 #include "fretbem/wear/integrator.hpp"
 
 namespace fretbem {
@@ -29,6 +30,9 @@ struct Checkpoint {
   /// not empty; checked by validate_checkpoint); checkpoints written before it have none and
   /// resume with an empty predictor.
   std::vector<double> predictor;
+  /// Fingerprints of the run's load path and initial surface (absent in checkpoints written
+  /// before session 5: then not checked).
+  std::optional<InputDigest> inputs;
 };
 
 /// Writes DIR/checkpoint.h5 atomically (tmp file, checked writes, fsync, rename); `wear` for

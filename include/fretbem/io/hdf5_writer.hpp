@@ -54,6 +54,14 @@ class Hdf5Writer {
   void write_step_fields(std::int64_t step, double time, const std::map<std::string, Field>& fields,
                          const std::string& prefix = "/fields/step_");
 
+  /// Copies these groups of write_step_fields' layout (attributes step and time, one field
+  /// per dataset) from the HDF5 file `source`: each is read whole (so a torn chunk is found
+  /// now) and written as write_step_fields writes it. A group that cannot be read is left
+  /// out and returned; a write that fails throws (resume of a file torn by a kill:
+  /// result_recovery.hpp).
+  std::vector<std::string> copy_step_groups(const std::filesystem::path& source,
+                                            const std::vector<std::string>& groups);
+
   /// Creates /timeseries with these column names (replacing an old one). Needed once before
   /// append_row, unless open_existing found a time series.
   void start_timeseries(const std::vector<std::string>& columns);
@@ -65,6 +73,9 @@ class Hdf5Writer {
   const std::vector<std::string>& timeseries_columns() const;
 
   const std::filesystem::path& path() const;
+  /// Closes the file now, checked (a close flushes: on a full disk that is where a write
+  /// fails); throws std::runtime_error naming the path. The writer is unusable afterwards.
+  void close();
 
  private:
   struct Impl;

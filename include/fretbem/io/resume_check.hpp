@@ -4,7 +4,6 @@
 // Every refusal is an InputError naming the file and the quantity.
 #pragma once
 
-#include <cstddef>
 #include <filesystem>
 #include <string>
 
@@ -22,15 +21,9 @@ std::string new_run_id();
 void prepare_output_dir(const std::filesystem::path& dir, bool overwrite);
 
 /// Refuses a checkpoint whose stored quantities do not fit the model built from its own
-/// scenario: field sizes, component count, finiteness, contact states, step counters.
+/// scenario: field sizes, component count, finiteness, contact states, step counters, and the
+/// fingerprints of its load path and initial surface (input_digest.hpp).
 void validate_checkpoint(const Checkpoint& cp, const Model& model,
                          const std::filesystem::path& file);
-
-/// Refuses outputs that do not belong to the checkpoint: result.h5 must carry the
-/// checkpoint's run id and at least `rows` time-series rows, and timeseries.csv at least
-/// `rows` well-formed rows equal to result.h5's (so a deleted, truncated, emptied or foreign
-/// file is refused, not patched).
-void check_resume_outputs(const std::filesystem::path& dir, const std::string& run_id,
-                          std::size_t rows);
 
 }  // namespace fretbem

@@ -44,6 +44,10 @@ class ResultFile final : public Observer {
   io::Hdf5Writer h5_;
 };
 
+/// What a fresh result file starts with: its self-description, /run_id, /scenario (resolved),
+/// /surface/initial and an empty /timeseries of StepRecord's columns.
+void write_result_header(io::Hdf5Writer& h5, const Model& model);
+
 /// DIR/cycles.csv: per load cycle (period 1 in time) the energy dissipated (nodal sums), the
 /// loop area of the F-U path (trapezoid rule, x and y), force and shift amplitudes, k_x and the
 /// slip area at the cycle's turning points, and the resolution there (slip-ring width in cells,
@@ -86,6 +90,12 @@ class ProgressLine final : public Observer {
   std::size_t total_;
   ProgressReporter reporter_;
 };
+
+/// A run stopped early with its checkpoint written (`where`: "K of N steps", "N = K of M"):
+/// by --stop-after, one line on stdout and 0; by SIGTERM/SIGINT (core/stop_signal.hpp), one
+/// line on stderr and 128 + the signal, as a shell reports a killed job. Both say how to
+/// continue.
+int report_stop(const std::string& where, const std::filesystem::path& dir);
 
 /// DIR/NAME.csv with these columns; resume_rows >= 0: keep the header and the first
 /// resume_rows data rows of an existing file and append (rows an interrupted run wrote after

@@ -60,15 +60,11 @@ class MemberQueue {
 };
 
 /// Runs the members the queue hands out, up to `jobs` at a time, writing each one's status
-/// file. Returns false when a signal ended the run early.
+/// file. Returns false when a signal ended the run early (core/stop_signal.hpp, installed by
+/// the caller).
 bool run_sweep_members(const SweepSpec& spec, MemberQueue& queue, const SweepOptions& opt);
 
 /// Indices of the members that are not complete (what a run or re-run has to do).
 std::vector<std::size_t> pending_members(const SweepSpec& spec);
-
-/// Installs the SIGTERM/SIGINT handler that run_sweep_members watches.
-void install_sweep_signal_handlers();
-/// True once SIGTERM or SIGINT arrived (after install_sweep_signal_handlers).
-bool sweep_stop_requested();
 
 }  // namespace fretbem

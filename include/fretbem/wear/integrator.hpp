@@ -101,7 +101,8 @@ struct WearReport {
   long stretches = 0;
   double stretch_cycles = 0.0;
   double N = 0.0;        ///< cycle count reached
-  bool stopped = false;  ///< stopped by the step budget before wear.cycles
+  bool stopped = false;  ///< stopped by the step budget or a signal before wear.cycles
+  int exit_code = 0;     ///< of `fretbem run` (run_wear): 128 + signal when one stopped it
 };
 
 /// Destination of the wear outputs: DIR/cycles.csv, snapshots in result.h5, checkpoints,
@@ -116,6 +117,8 @@ class WearLog {
   virtual void snapshot(double /*N*/, const Field& /*worn*/, const Field& /*pressure*/) {}
   /// A wear step is finished and its rows and snapshots are out: the state to resume from.
   virtual void step_done(const WearCheckpoint& /*at*/) {}
+  /// Asked after each step_done: true ends the run there, `stopped` (a signal, for the CLI).
+  virtual bool stop_requested() const { return false; }
 };
 
 /// Simulates cycles of the scenario's load path (its first period) on the model's surface.
@@ -167,7 +170,8 @@ class WearCycles {
 /// Runs wear.integrator to wear.cycles. log may be null. With `resume`, continues from that
 /// checkpoint (cycle mode: the caller restored the stepper state and the surface). At most
 /// `max_steps` wear steps (simulated cycles in cycle mode, accepted integrator steps in
-/// ARKODE modes) are taken in this call (negative: no limit); the report is then `stopped`.
+/// ARKODE modes) are taken in this call (negative: no limit), and none after the log's
+/// stop_requested(); the report is then `stopped`.
 WearReport integrate_wear(Model& model, WearCycles& cycles, WearLog* log,
                           const WearCheckpoint* resume = nullptr, long max_steps = -1);
 

@@ -1,0 +1,68 @@
+#include "fretbem/io/input_digest.hpp"
+
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+
+#include "fretbem/core/errors.hpp"
+
+namespace fretbem {
+
+namespace {
+
+// FNV-1a over 64-bit words: a fingerprint, not a cryptographic hash; word-wise so that a
+// path of 10^6 steps costs about a millisecond per checkpoint.
+class Fnv {
+ public:
+  void add(double x) {
+    std::uint64_t w;
+    std::memcpy(&w, &x, sizeof w);
+    add_word(w);
+  }
+  void add_word(std::uint64_t w) { h_ = (h_ ^ w) * 1099511628211ull; }
+  std::string hex() const {
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h_));
+    return buf;
+  }
+
+ private:
+  std::uint64_t h_ = 14695981039346656037ull;
+};
+
+}  // namespace
+
+InputDigest input_digest(const Model& m) {
+  Fnv path, surface;
+  for (const LoadStep& s : m.path.steps) {
+    path.add(s.time);
+    path.add(s.normal.value);
+    path.add(s.target.x());
+    path.add(s.target.y());
+    path.add_word(std::uint64_t(s.cycle) << 8 | std::uint64_t(s.normal.force_control) << 3 |
+                  std::uint64_t(s.control) << 2 | std::uint64_t(s.relative) << 1 |
+                  std::uint64_t(s.turning));
+  }
+  surface.add_word(std::uint64_t(m.surface0.rows()) << 32 | std::uint64_t(m.surface0.cols()));
+  for (double z : m.surface0.reshaped()) surface.add(z);
+  return {path.hex(), surface.hex()};
+}
+
+void check_input_digest(const InputDigest& stored, const Model& m) {
+  const InputDigest now = input_digest(m);
+  const std::string why =
+      " differs from the one this run started with (an input file edited since, or another "
+      "fretbem version that builds it otherwise); restore it, or start a new run; refusing to "
+      "resume";
+  const Scenario& sc = m.scenario;
+  if (now.path != stored.path)
+    throw InputError(sc.load.path == PathType::table
+                         ? "load.table = " + sc.load.table.string() + ": the load path" + why
+                         : "the load path of [load]" + why);
+  if (now.surface != stored.surface)
+    throw InputError(sc.surface.type == SurfaceType::file
+                         ? "surface.file = " + sc.surface.file.string() + ": the surface" + why
+                         : "the initial surface of [surface]" + why);
+}
+
+}  // namespace fretbem

@@ -1,0 +1,105 @@
+// `fretbem check`'s cost estimate (issue 19) against the runs it predicts, on small grids:
+// FFT convolutions of stepped runs and simulated cycles of wear runs, which are counts and do
+// not depend on the machine's load. The CPU-second figures and larger grids are measured by
+// tools/bench/cost_estimate_accuracy.py (docs/reliability.md).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "fretbem/history/cost_estimate.hpp"
+#include "fretbem/history/model.hpp"
+#include "fretbem/history/stepper.hpp"
+#include "fretbem/wear/cost_estimate.hpp"
+#include "fretbem/wear/integrator.hpp"
+
+using namespace fretbem;
+
+namespace {
+
+Scenario scenario(const std::string& file, const std::vector<std::string>& sets) {
+  return load_scenario(std::string(FRETBEM_SOURCE_DIR) + "/scenarios/" + file, sets);
+}
+
+// Every step of the path, as `fretbem run` does: its FFT convolutions.
+double run_convolutions(const Scenario& sc) {
+  auto model = build_model(sc);
+  Stepper stepper(*model);
+  double total = 0.0;
+  for (std::size_t k = 0; k < stepper.steps(); ++k) total += stepper.advance(k).convolutions;
+  return total;
+}
+
+struct Case {
+  std::string file;
+  std::vector<std::string> sets;
+};
+
+}  // namespace
+
+// The stated factor (docs/reliability.md): on force-controlled paths, cyclic or monotone, the
+// measured convolutions are within a factor 1.5 of the prediction. Measured: 0.83-1.11 at
+// n = 64-128 on the shipped scenarios, 0.74-1.04 on these cases at n = 32-48. The calibration
+// sees the first steps only; later steps that cost differently from the model (first steps,
+// then settled cycles at kSettledStepShare: the share measured 0.45-0.59) move the ratio.
+TEST(CostEstimate, ConvolutionsOfForceControlledRunsWithinStatedFactor) {
+  const std::vector<Case> cases = {
+      {"mindlin_cycle.ini", {"grid.n=32"}},
+      {"mindlin_cycle.ini", {"grid.n=48", "load.amplitude=0.3"}},
+      {"mindlin_cycle.ini", {"grid.n=32", "load.amplitude=0.9", "load.steps_per_cycle=32"}},
+      {"cattaneo.ini", {"grid.n=32"}},
+      {"rough_fretting_cycle.ini", {"grid.n=32"}},
+      {"rough_fretting_cycle.ini", {"grid.n=48", "load.cycles=4"}},
+  };
+  for (const Case& c : cases) {
+    const Scenario sc = scenario(c.file, c.sets);
+    const double predicted = estimate_run_cost(sc).convolutions;
+    const double measured = run_convolutions(sc);
+    const double ratio = measured / predicted;
+    std::printf("%s %s: measured %g, predicted %g, ratio %.3f\n", c.file.c_str(),
+                c.sets.back().c_str(), measured, predicted, ratio);
+    EXPECT_GT(ratio, 1.0 / 1.5) << c.file << " " << c.sets.back() << ": " << measured << " / "
+                                << predicted;
+    EXPECT_LT(ratio, 1.5) << c.file << " " << c.sets.back() << ": " << measured << " / "
+                          << predicted;
+  }
+}
+
+// A displacement-controlled ramp past full sliding: the steps in gross slip cost one
+// convolution, which the first steps cannot foresee. The estimate stays an upper bound
+// (measured 0.34x at n = 256).
+TEST(CostEstimate, DisplacementRampIntoGrossSlipIsOverestimated) {
+  const Scenario sc = scenario("rough_monotone.ini", {"grid.n=64"});
+  const double predicted = estimate_run_cost(sc).convolutions;
+  const double measured = run_convolutions(sc);
+  EXPECT_LE(measured, predicted);
+  EXPECT_GT(measured, 0.2 * predicted);
+}
+
+// Wear runs: the simulated cycles of the run fall in the predicted range, and the range is
+// narrower than the integrator's guard bound N + 1.
+TEST(CostEstimate, WearSimulatedCyclesInPredictedRange) {
+  const std::vector<Case> cases = {
+      {"fretting_wear.ini", {"grid.n=32"}},
+      {"fretting_wear.ini", {"grid.n=32", "wear.cycles=1000"}},
+      {"gross_slip_wear.ini", {"grid.n=32"}},
+      {"rough_fretting_wear.ini", {"grid.n=32"}},
+      {"fretting_wear.ini", {"grid.n=32", "wear.cycles=6", "wear.integrator=cycle"}},
+  };
+  for (const Case& c : cases) {
+    const Scenario sc = scenario(c.file, c.sets);
+    const WearCostEstimate e = estimate_wear_cost(sc);
+    auto model = build_model(sc);
+    Stepper stepper(*model);
+    WearCycles cycles(*model, stepper);
+    const WearReport rep = integrate_wear(*model, cycles, nullptr);
+    EXPECT_GE(rep.simulated_cycles, e.simulated_low - 1e-9) << c.file << " " << c.sets.back();
+    EXPECT_LE(rep.simulated_cycles, e.simulated_high + 1e-9) << c.file << " " << c.sets.back();
+    if (sc.wear.integrator != WearIntegrator::cycle) {
+      EXPECT_LE(e.simulated_high, kExplicitRangeFactor * e.simulated_low * (1 + 1e-12));
+    }
+    std::printf("%s %s: simulated %g in [%g, %g]\n", c.file.c_str(), c.sets.back().c_str(),
+                rep.simulated_cycles, e.simulated_low, e.simulated_high);
+  }
+}

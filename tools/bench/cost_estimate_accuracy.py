@@ -1,0 +1,97 @@
+#!/usr/bin/env python3
+"""Accuracy of `fretbem check`'s cost estimate against real runs (issue 19).
+
+For each case: `fretbem check` (its calibration) and then `fretbem run` on the same scenario
+and overrides; prints predicted vs measured FFT convolutions (stepped runs: the sum of
+timeseries.csv's `convolutions` column; wear runs: simulated cycles) and CPU seconds (the run's
+user + system CPU from os.wait4, so a loaded machine does not inflate it). Also times the
+calibration alone. Usage:
+
+    nice -n 10 tools/bench/cost_estimate_accuracy.py BUILD_DIR [OUT_DIR] [--case NAME ...]
+
+Results are in docs/reliability.md ("Accuracy of check's cost estimate").
+"""
+import csv
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+# name, scenario, overrides
+CASES = [
+    ("mindlin n=64", "mindlin_cycle.ini", ["grid.n=64"]),
+    ("mindlin n=128", "mindlin_cycle.ini", []),
+    ("cattaneo n=128", "cattaneo.ini", []),
+    ("rough cycle n=64", "rough_fretting_cycle.ini", []),
+    ("rough cycle n=128", "rough_fretting_cycle.ini", ["grid.n=128"]),
+    ("rough monotone n=256", "rough_monotone.ini", []),
+    ("fretting wear n=64", "fretting_wear.ini", ["grid.n=64"]),
+    ("rough wear n=64", "rough_fretting_wear.ini", ["grid.n=64"]),
+    ("gross-slip wear n=64", "gross_slip_wear.ini", ["grid.n=64"]),
+]
+
+
+def cpu_run(cmd):
+    """Runs cmd; returns (stdout+stderr, CPU seconds of the child)."""
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    out = p.stdout.read()
+    _, status, ru = os.wait4(p.pid, 0)
+    if os.waitstatus_to_exitcode(status) != 0:
+        raise RuntimeError(" ".join(cmd) + " failed:\n" + out)
+    return out, ru.ru_utime + ru.ru_stime
+
+
+def num(pattern, text):
+    m = re.search(pattern, text)
+    return float(m.group(1)) if m else float("nan")
+
+
+def measure(exe, name, scenario, sets, out_dir):
+    sc = os.path.join(ROOT, "scenarios", scenario)
+    args = sum((["--set", s] for s in sets), [])
+    chk, chk_cpu = cpu_run([exe, "check", sc] + args)
+    _, nocal_cpu = cpu_run([exe, "check", sc, "--no-estimate"] + args)
+    run_dir = os.path.join(out_dir, re.sub(r"[^a-z0-9]+", "_", name.lower()))
+    out, run_cpu = cpu_run([exe, "run", sc, "--out", run_dir, "--overwrite", "--quiet"] + args)
+    row = {"case": name, "calibration_cpu": chk_cpu - nocal_cpu, "run_cpu": run_cpu}
+    if "wear stability cap" in chk:
+        m = re.search(r"expected simulated cycles: ([0-9.e+]+)(?: to ([0-9.e+]+))?", chk)
+        row["pred_low"] = float(m.group(1))
+        row["pred_high"] = float(m.group(2) or m.group(1))
+        row["measured"] = num(r"with ([0-9.e+]+) simulated cycles", out)
+        m = re.search(r"cost: about ([0-9.e+]+)(?: to ([0-9.e+]+))? s", chk)
+        row["pred_cpu_low"] = float(m.group(1))
+        row["pred_cpu_high"] = float(m.group(2) or m.group(1))
+    else:
+        row["pred_low"] = row["pred_high"] = num(r"cost: about ([0-9.e+]+) FFT", chk)
+        with open(os.path.join(run_dir, "timeseries.csv")) as f:
+            row["measured"] = sum(float(r["convolutions"]) for r in csv.DictReader(f))
+        row["pred_cpu_low"] = row["pred_cpu_high"] = num(r"FFT convolutions, ([0-9.e+]+) s", chk)
+    return row
+
+
+def main():
+    exe = os.path.join(os.path.abspath(sys.argv[1]), "fretbem")
+    out_dir = sys.argv[2] if len(sys.argv) > 2 and not sys.argv[2].startswith("--") else None
+    only = [sys.argv[i + 1] for i, a in enumerate(sys.argv) if a == "--case"]
+    out_dir = out_dir or tempfile.mkdtemp(prefix="cost_estimate_")
+    print("| case | predicted | measured | measured / predicted | predicted CPU s | "
+          "run CPU s | measured / predicted | calibration CPU s |")
+    print("|---|---|---|---|---|---|---|---|")
+    for name, scenario, sets in CASES:
+        if only and not any(o in name for o in only):
+            continue
+        r = measure(exe, name, scenario, sets, out_dir)
+        rng = lambda lo, hi, f: (f % lo) if lo == hi else (f % lo) + "–" + (f % hi)
+        print(f"| {r['case']} | {rng(r['pred_low'], r['pred_high'], '%.4g')} | {r['measured']:.4g} | "
+              f"{rng(r['measured'] / r['pred_high'], r['measured'] / r['pred_low'], '%.2f')} | "
+              f"{rng(r['pred_cpu_low'], r['pred_cpu_high'], '%.2g')} | {r['run_cpu']:.2f} | "
+              f"{rng(r['run_cpu'] / r['pred_cpu_high'], r['run_cpu'] / r['pred_cpu_low'], '%.2f')} | "
+              f"{r['calibration_cpu']:.2f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
