@@ -36,7 +36,9 @@ bool same_transition(const LoadStep& p0, const LoadStep& c0, const LoadStep& p1,
 
 }  // namespace
 
-std::vector<char> CyclePredictor::repeated_later(const std::vector<LoadStep>& steps) {
+namespace {
+
+std::vector<char> repeated(const std::vector<LoadStep>& steps, bool later) {
   double tscale = 1e-300, nscale = 1e-300;
   for (const LoadStep& s : steps) {
     tscale = std::max(tscale, s.target.cwiseAbs().maxCoeff());
@@ -57,14 +59,25 @@ std::vector<char> CyclePredictor::repeated_later(const std::vector<LoadStep>& st
                q(c.normal.value, nscale),
                0};
   };
-  std::vector<char> later(steps.size(), 0);
+  std::vector<char> out(steps.size(), 0);
   std::set<Key> seen;
-  for (std::size_t k = steps.size(); k-- > 1;) {
+  for (std::size_t i = 1; i < steps.size(); ++i) {
+    const std::size_t k = later ? steps.size() - i : i;
     const Key kk = key(steps[k - 1], steps[k]);
-    later[k] = seen.count(kk) ? 1 : 0;
+    out[k] = seen.count(kk) ? 1 : 0;
     seen.insert(kk);
   }
-  return later;
+  return out;
+}
+
+}  // namespace
+
+std::vector<char> CyclePredictor::repeated_later(const std::vector<LoadStep>& steps) {
+  return repeated(steps, true);
+}
+
+std::vector<char> CyclePredictor::repeated_earlier(const std::vector<LoadStep>& steps) {
+  return repeated(steps, false);
 }
 
 const VecField* CyclePredictor::find(const LoadStep& prev, const LoadStep& cur, Eigen::Index nx,

@@ -24,6 +24,8 @@ class CyclePredictor {
   /// rounded to 1e-7 of the path's largest load: a near miss only stores one entry more or
   /// less, never changes a result. Step 0 (no transition) is false.
   static std::vector<char> repeated_later(const std::vector<LoadStep>& steps);
+  /// Same, for whether the transition occurred at an earlier step (the predictor has it).
+  static std::vector<char> repeated_earlier(const std::vector<LoadStep>& steps);
 
   /// The traction (Pa, full grid, operator components) remembered for a step that went from
   /// load `prev` to load `cur`, or nullptr. The pointer is valid until the next call.
