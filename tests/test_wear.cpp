@@ -6,7 +6,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
+#include <string>
+#include <vector>
 
+#include "fretbem/core/format.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/scenario/scenario.hpp"
@@ -322,4 +325,38 @@ TEST(WearIntegrators, DefaultAbsoluteToleranceIsRtolTimesIndentation) {
   ASSERT_GT(a.rep.worn.maxCoeff(), 0.0);
   EXPECT_EQ((a.rep.worn - b.rep.worn).abs().maxCoeff(), 0.0);
   EXPECT_EQ(a.rep.simulated_cycles, b.rep.simulated_cycles);
+}
+
+// wear.integrator = erk chosen past kImplicitPastCaps stability caps: the run keeps the method
+// asked for and warns at its start, naming the cap and the implicit integrators (the sweep's
+// erk run to N = 5e4 at n = 32 simulated 6303 cycles, over N/10). Under 50 caps, and for dirk
+// or arkode, no warning. The cap is 1 / (k s K_max) of the unworn surface's steady cycle.
+TEST(WearIntegrators, ExplicitPastStabilityCapsWarns) {
+  struct Warnings final : WearLog {
+    std::vector<std::string> lines;
+    void warn(const std::string& line) override { lines.push_back(line); }
+  };
+  auto warnings = [](const std::string& text, double* cap) {
+    auto model = model_of(text);
+    Stepper st(*model);
+    WearCycles cyc(*model, st);
+    Warnings log;
+    integrate_wear(*model, cyc, &log, nullptr, 1);  // the first step is enough
+    *cap = explicit_step_cap(*model, cyc.steady(0.0, Field::Zero(32, 32)).max_slip);
+    return log.lines;
+  };
+  double cap = 0.0;
+  const auto long_erk = warnings(partial_slip(32, 2e-12, 20000, "erk", 1e-2), &cap);
+  ASSERT_EQ(long_erk.size(), 1u);
+  const std::string& w = long_erk.front();
+  std::printf("[ erk warning ] cap %.4g cycles: %s\n", cap, w.c_str());
+  EXPECT_GT(20000 / cap, kImplicitPastCaps);
+  EXPECT_NE(w.find(format_printf("%.3g", cap)), std::string::npos) << w;
+  for (const char* word : {"wear.integrator = erk", "dirk", "arkode"})
+    EXPECT_NE(w.find(word), std::string::npos) << word << " in " << w;
+  // Under 50 caps (N / cap ~ 33 here) and the integrators that are not capped: silent.
+  EXPECT_TRUE(
+      warnings(partial_slip(32, 2e-12, 0.66 * kImplicitPastCaps * cap, "erk", 1e-2), &cap).empty());
+  EXPECT_TRUE(warnings(partial_slip(32, 2e-12, 20000, "dirk", 1e-2), &cap).empty());
+  EXPECT_TRUE(warnings(partial_slip(32, 2e-12, 20000, "arkode", 1e-2), &cap).empty());
 }

@@ -17,8 +17,8 @@ namespace fretbem {
 namespace {
 
 // Simulated cycles are sums of fractions of a period (a steady cycle counts 1.2 at one step
-// per ramp step): printed to 1e-6 cycles so summation round-off ("67.80000000000007") does not
-// show; whole counts as integers.
+// per ramp step), and an ODE run's N is real: printed to 1e-6 cycles so round-off
+// ("67.80000000000007", "N = 8801.740264644288") does not show; whole counts as integers.
 std::string simulated_count(double simulated) {
   return format_count(std::round(simulated * 1e6) / 1e6);
 }
@@ -81,6 +81,11 @@ class WearFiles final : public WearLog {
     c.cycles_rows = rows_, c.snapshots = snapshots_;
     save_checkpoint(model_.scenario.output.dir, model_, stepper_, &c);
   }
+  // On stderr, with --quiet too: it says what the run will cost before it is spent.
+  void warn(const std::string& line) override {
+    progress_.finish();
+    std::fprintf(stderr, "fretbem: %s\n", line.c_str());
+  }
   void done() { progress_.finish(); }
   const std::filesystem::path& path() const { return csv_.path(); }
   /// N and energy_per_cycle (J) of the last accepted cycles.csv row (none yet: N < 0).
@@ -124,7 +129,7 @@ WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume, long max
   WearReport rep = integrate_wear(model, sim, &log, at, max_steps);
   log.done();
   if (rep.stopped) {
-    rep.exit_code = report_stop("N = " + format_count(rep.N) + " of " +
+    rep.exit_code = report_stop("N = " + simulated_count(rep.N) + " of " +
                                     format_count(model.scenario.wear.cycles) + " cycles",
                                 dir);
     return rep;

@@ -59,8 +59,7 @@ WearCostEstimate estimate_wear_cost(const Scenario& sc) {
   e.cap = explicit_step_cap(*model, c0.max_slip);
   const WearSpec& w = sc.wear;
   const double N = w.cycles;
-  e.implicit = w.integrator == WearIntegrator::dirk ||
-               (w.integrator == WearIntegrator::arkode && N > kImplicitPastCaps * e.cap);
+  e.implicit = runs_implicit(w.integrator, N, e.cap, cycles.simulated());
   if (w.integrator == WearIntegrator::cycle) {
     e.simulated_low = e.simulated_high = N + 1.0;  // cycles 0..N, the last one observes
   } else if (e.implicit) {
@@ -94,6 +93,8 @@ std::string describe(const WearCostEstimate& e, const WearSpec& w) {
             ? std::string()
             : " to " + num(e.seconds_per_cycle * e.simulated_high, "%.2g")) +
        " s of CPU (from one steady cycle solved in " + num(e.calibration_seconds, "%.2g") + " s)\n";
+  if (const std::string warn = explicit_cap_warning(w, e.cap); !warn.empty())
+    o += "  " + warn + "\n";
   return o;
 }
 

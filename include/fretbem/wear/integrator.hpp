@@ -117,6 +117,8 @@ class WearLog {
   virtual void snapshot(double /*N*/, const Field& /*worn*/, const Field& /*pressure*/) {}
   /// A wear step is finished and its rows and snapshots are out: the state to resume from.
   virtual void step_done(const WearCheckpoint& /*at*/) {}
+  /// A warning about the run, one line (explicit_cap_warning).
+  virtual void warn(const std::string& /*line*/) {}
   /// Asked after each step_done: true ends the run there, `stopped` (a signal, for the CLI).
   virtual bool stop_requested() const { return false; }
 };
@@ -182,9 +184,23 @@ WearReport integrate_wear(Model& model, WearCycles& cycles, WearLog* log,
 /// vs 594. Interpolated crossovers: ~40 and ~100.
 inline constexpr double kImplicitPastCaps = 50.0;
 
+/// Whether the implicit method runs: dirk; arkode past kImplicitPastCaps caps, or when the cap
+/// is so short that an explicit step (two wear-map evaluations of `evaluation_cycles` simulated
+/// cycles each) can never cover twice its cost in cycles (the cost guard's kStepWorth): then
+/// every explicit step is unprofitable and the cost guard's stretches, interrupted by one
+/// wasted step per snapshot interval, exceed N (gross slip, n = 64, k = 1e-13, N = 100: cap
+/// 2.8 cycles, 117.6 simulated cycles with erk, 61.2 with dirk; tools/bench/wear_sweep.py).
+bool runs_implicit(WearIntegrator kind, double N, double cap, double evaluation_cycles);
+
 /// Stability cap on the cycle step of an explicit integrator: 1 / (k_eq s_max K_max),
 /// K_max = 1.7 E*/h the largest eigenvalue of the normal influence matrix (issue 6).
 double explicit_step_cap(const Model& model, double max_slip);
+
+/// wear.integrator = erk chosen for a run longer than kImplicitPastCaps stability caps `cap`
+/// (cycles per explicit step, of the unworn surface): a one-line warning (no "fretbem: "
+/// prefix, no newline) naming the cap, the run's length in caps, and dirk / arkode; empty
+/// otherwise. Printed by `fretbem check` and at the start of the run.
+std::string explicit_cap_warning(const WearSpec& wear, double cap);
 
 /// Geometric output sequence 0, 1, 2, 5, 10, 20, 50, ... up to and including N_end.
 std::vector<double> snapshot_cycles(double N_end);
