@@ -1,5 +1,6 @@
 // Load histories: Mindlin–Deresiewicz loops, energy balance, steady state, paths, resume.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -254,6 +255,87 @@ TEST(Resume, StopAndResumeMatchesUninterruptedRun) {
   fs::remove_all(d);
 }
 
+// The cycle predictor's memory is in the checkpoint: stopped in the third cycle (where every
+// increment starts from the remembered traction) and resumed, the run is byte-identical to the
+// uninterrupted one (expect_same_run: kx and the work counters aside, as for any resume). A
+// checkpoint written without it (an older fretbem) still resumes, with an empty predictor, to the
+// same rows within the solver tolerance (1e-10 here: 1e-6 of the force scale, as the predictor test
+// below).
+TEST(Resume, PredictorMemoryIsCheckpointed) {
+  const fs::path d = scenario_file(
+      "resume_predictor", sphere_scenario(48, sine_load(0.6, 3, 16), "predictor = cycle\n"));
+  const std::string bin = FRETBEM_BINARY, ini = (d / "s.ini").string();
+  ASSERT_EQ(sh(bin + " run " + ini + " --quiet --out " + (d / "full").string()), 0);
+  ASSERT_EQ(sh(bin + " run " + ini + " --quiet --stop-after 40 --out " + (d / "part").string()), 0);
+  ASSERT_EQ(sh("cp -r " + (d / "part").string() + " " + (d / "old").string()), 0);
+  ASSERT_EQ(sh(bin + " run --quiet --resume " + (d / "part").string()), 0);
+  expect_same_run(d / "full", d / "part");
+  // The older checkpoint: no `predictor` dataset.
+  ASSERT_EQ(sh("h5ls " + (d / "old" / "checkpoint.h5").string() + " | grep -q predictor"), 0);
+  {
+    const hid_t f = H5Fopen((d / "old" / "checkpoint.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    ASSERT_GE(H5Ldelete(f, "predictor", H5P_DEFAULT), 0);
+    ASSERT_GE(H5Fclose(f), 0);
+  }
+  ASSERT_EQ(sh(bin + " run --quiet --resume " + (d / "old").string()), 0);
+  const auto ra = read_csv(d / "full" / "timeseries.csv"),
+             rb = read_csv(d / "old" / "timeseries.csv");
+  ASSERT_EQ(ra.size(), rb.size());
+  const auto& cols = ra[0];
+  const double Fs =
+      std::abs(std::stod(ra[4][std::find(cols.begin(), cols.end(), "Fx") - cols.begin()]));
+  for (const std::string col : {"Fx", "Ux", "dissipation"}) {
+    const std::size_t c = std::size_t(std::find(cols.begin(), cols.end(), col) - cols.begin());
+    ASSERT_LT(c, cols.size()) << col;
+    const double scale = col == "Fx" ? Fs : std::abs(std::stod(ra.back()[c])) + Fs * 0;
+    for (std::size_t i = 1; i < ra.size(); ++i)
+      EXPECT_NEAR(std::stod(ra[i][c]), std::stod(rb[i][c]),
+                  1e-6 * (col == "Ux" ? std::abs(std::stod(ra[4][c])) : scale))
+          << col << " row " << i;
+  }
+  // A damaged predictor dataset is refused with one line (exit 2), not used.
+  ASSERT_EQ(sh(bin + " run " + ini + " --quiet --stop-after 40 --out " + (d / "bad").string()), 0);
+  {
+    const hid_t f = H5Fopen((d / "bad" / "checkpoint.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    ASSERT_GE(H5Ldelete(f, "predictor", H5P_DEFAULT), 0);
+    const hsize_t n = 4;
+    const double v[4] = {1, 1, 5, 0};  // five entries announced, none there
+    const hid_t sp = H5Screate_simple(1, &n, nullptr);
+    const hid_t ds =
+        H5Dcreate2(f, "predictor", H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v), 0);
+    H5Dclose(ds), H5Sclose(sp);
+    ASSERT_GE(H5Fclose(f), 0);
+  }
+  EXPECT_EQ(
+      WEXITSTATUS(std::system(
+          (bin + " run --quiet --resume " + (d / "bad").string() + " > /dev/null 2>&1").c_str())),
+      2);
+  fs::remove_all(d);
+}
+
+// solver.predictor = auto (the default) turns the predictor on where a path repeats a load
+// transition and off where none repeats; the explicit choices are kept.
+TEST(Predictor, AutoPicksCycleOnlyOnRepeatingPaths) {
+  auto pick = [](const std::string& load, const std::string& extra = "") {
+    return prepare_model(parse_scenario(sphere_scenario(32, load, extra), "t", "."))
+        ->cycle_predictor;
+  };
+  EXPECT_TRUE(pick(sine_load(0.6, 2, 16)));
+  EXPECT_FALSE(pick(sine_load(0.6, 2, 16), "predictor = none\n"));
+  EXPECT_FALSE(pick(sine_load(0.6, 1, 16)));  // one cycle: nothing comes back (the ramp in)
+  EXPECT_FALSE(
+      pick("normal_force = 0.015\npath = ramp\nsteps = 6\ncontrol = force\namplitude = 0.9"));
+  // Only transitions that come back are remembered: none in the last cycle of a sine.
+  LoadPath p = make_load_path(parse_scenario(sphere_scenario(32, sine_load(0.6, 3, 8)), "t", "."));
+  const auto later = CyclePredictor::repeated_later(p.steps);
+  EXPECT_TRUE(later[1]);  // 0 -> first target: the load of the first step of cycle 2 too
+  EXPECT_FALSE(later.back());
+  EXPECT_TRUE(later[p.steps.size() - 9]);  // the last step of cycle 2 repeats in cycle 3
+}
+
 // A run killed with SIGKILL mid-way keeps readable output and resumes to the same result.
 TEST(Resume, KilledRunResumes) {
   const fs::path d = scenario_file(
@@ -295,8 +377,11 @@ TEST(Predictor, CycleStartKeepsTheRowsAndSavesConvolutions) {
       load.replace(load.find("control = force"), 15, "control = displacement");
       load += "\ndisplacement_amplitude = " + std::to_string(0.5 * mindlin().ustar);
     }
-    const Recorder a = run(sphere_scenario(64, load));
+    const Recorder a = run(sphere_scenario(64, load, "predictor = none\n"));
     const Recorder b = run(sphere_scenario(64, load, "predictor = cycle\n"));
+    const Recorder c = run(sphere_scenario(64, load));  // the default (auto) picks cycle
+    ASSERT_EQ(b.rows.size(), c.rows.size());
+    for (std::size_t k = 0; k < b.rows.size(); ++k) EXPECT_EQ(b.rows[k].Fx, c.rows[k].Fx) << k;
     ASSERT_EQ(a.rows.size(), b.rows.size());
     const double Fs = std::abs(a.rows[8].Fx), Us = std::abs(a.rows[8].Ux);
     long conv_a = 0, conv_b = 0;

@@ -243,7 +243,10 @@ int resume_run(const Args& a) {
                                         {.rows = cp.memory.next_step, .field_steps = done}));
   model->surface = cp.surface;
   Stepper stepper(*model);
-  stepper.restore(cp.state, cp.memory);
+  const Grid& g = model->scenario.grid;
+  stepper.restore(cp.state, cp.memory,
+                  CyclePredictor::unflatten(cp.predictor, std::size_t(g.nx * g.ny),
+                                            model->tangential_operator->components()));
   return run_model(*model, stepper, long(cp.memory.next_step), a);
 }
 

@@ -56,7 +56,13 @@ RunCostEstimate estimate_run_cost(const Scenario& sc) {
   const double per_step = calibrated > 0 ? tangential / double(calibrated) : 0.0;
   const std::size_t settled = settled_from(model->path);
   double remaining = 0.0;  // remaining steps weighted by their cost relative to the calibrated
-  for (std::size_t i = k; i < steps; ++i) remaining += i > settled ? kSettledStepShare : 1.0;
+  // With the cycle predictor, a step whose load transition came before starts from that
+  // step's solution (kPredictedStepShare).
+  const std::vector<char> seen = model->cycle_predictor
+                                     ? CyclePredictor::repeated_earlier(model->path.steps)
+                                     : std::vector<char>(steps, 0);
+  for (std::size_t i = k; i < steps; ++i)
+    remaining += seen[i] ? kPredictedStepShare : i > settled ? kSettledStepShare : 1.0;
   e.convolutions = step0 + tangential + per_step * remaining;
   e.seconds = convolutions > 0 ? e.convolutions * solve_seconds / convolutions : solve_seconds;
   e.calibration_seconds = process_cpu_seconds() - cpu0;

@@ -1,7 +1,11 @@
 #include "fretbem/history/cycle_predictor.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <set>
+#include <stdexcept>
+#include <string>
 
 namespace fretbem {
 
@@ -32,6 +36,50 @@ bool same_transition(const LoadStep& p0, const LoadStep& c0, const LoadStep& p1,
 
 }  // namespace
 
+namespace {
+
+std::vector<char> repeated(const std::vector<LoadStep>& steps, bool later) {
+  double tscale = 1e-300, nscale = 1e-300;
+  for (const LoadStep& s : steps) {
+    tscale = std::max(tscale, s.target.cwiseAbs().maxCoeff());
+    nscale = std::max(nscale, std::abs(s.normal.value));
+  }
+  using Key = std::array<long long, 8>;
+  auto q = [](double v, double scale) { return std::llround(v / (1e-7 * scale)); };
+  auto key = [&](const LoadStep& p, const LoadStep& c) {
+    const long long kind = (p.normal.force_control ? 1 : 0) + 2 * int(p.control) +
+                           8 * (p.relative ? 1 : 0) + 16 * (c.normal.force_control ? 1 : 0) +
+                           32 * int(c.control) + 128 * (c.relative ? 1 : 0);
+    return Key{kind,
+               q(p.target.x(), tscale),
+               q(p.target.y(), tscale),
+               q(p.normal.value, nscale),
+               q(c.target.x(), tscale),
+               q(c.target.y(), tscale),
+               q(c.normal.value, nscale),
+               0};
+  };
+  std::vector<char> out(steps.size(), 0);
+  std::set<Key> seen;
+  for (std::size_t i = 1; i < steps.size(); ++i) {
+    const std::size_t k = later ? steps.size() - i : i;
+    const Key kk = key(steps[k - 1], steps[k]);
+    out[k] = seen.count(kk) ? 1 : 0;
+    seen.insert(kk);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<char> CyclePredictor::repeated_later(const std::vector<LoadStep>& steps) {
+  return repeated(steps, true);
+}
+
+std::vector<char> CyclePredictor::repeated_earlier(const std::vector<LoadStep>& steps) {
+  return repeated(steps, false);
+}
+
 const VecField* CyclePredictor::find(const LoadStep& prev, const LoadStep& cur, Eigen::Index nx,
                                      Eigen::Index ny) {
   for (const Entry& e : entries_) {
@@ -44,41 +92,160 @@ const VecField* CyclePredictor::find(const LoadStep& prev, const LoadStep& cur, 
   return nullptr;
 }
 
+// Entries that share a node list are neighbours (a list is shared only with the newest entry
+// when it is remembered), so each list counts once: where it differs from the previous entry's.
+void CyclePredictor::recount() {
+  stored_ = 0;
+  const std::vector<Eigen::Index>* last = nullptr;
+  for (const Entry& e : entries_) {
+    if (e.nodes.get() != last) stored_ += e.nodes->size();
+    last = e.nodes.get();
+    for (const auto& v : e.values) stored_ += v.size();
+  }
+}
+
 void CyclePredictor::remember(const LoadStep& prev, const LoadStep& cur, const VecField& traction,
                               const Field& bound) {
-  // Bytes held by an entry: its values, and its node list unless another entry shares it.
-  auto size = [](const Entry& e) {
-    return e.nodes->size() * (e.values.size() + (e.nodes.use_count() == 1 ? 1 : 0));
-  };
-  auto drop = [&](std::deque<Entry>::iterator it) {
-    stored_ -= size(*it);
-    const auto nodes = it->nodes;
-    entries_.erase(it);
-    // The node list now held by one entry alone counts for that entry again.
-    if (nodes.use_count() == 2) stored_ += nodes->size();
-  };
   auto same = [&](const Entry& e) { return same_transition(e.prev, e.cur, prev, cur); };
   if (auto it = std::find_if(entries_.begin(), entries_.end(), same); it != entries_.end())
-    drop(it);
+    entries_.erase(it);
   auto nodes = std::make_shared<std::vector<Eigen::Index>>();
   for (Eigen::Index k = 0; k < bound.size(); ++k)
     if (bound(k) > 0.0) nodes->push_back(k);
   Entry e{prev, cur, nodes, std::vector<std::vector<double>>(traction.size())};
-  if (!entries_.empty() && *entries_.front().nodes == *nodes) {
-    if (entries_.front().nodes.use_count() == 1) stored_ -= nodes->size();  // now shared
-    e.nodes = entries_.front().nodes;
-  }
+  if (!entries_.empty() && *entries_.front().nodes == *nodes) e.nodes = entries_.front().nodes;
   for (std::size_t c = 0; c < traction.size(); ++c) {
     e.values[c].reserve(e.nodes->size());
     for (const Eigen::Index k : *e.nodes) e.values[c].push_back(traction[c](k));
   }
-  nodes.reset();  // only the entries hold node lists now
   entries_.push_front(std::move(e));
-  stored_ += entries_.front().nodes->size() * traction.size() +
-             (entries_.front().nodes.use_count() == 1 ? entries_.front().nodes->size() : 0);
+  recount();
   // 8 bytes per stored double or index; the oldest entries go first.
   const double limit = kBytesPerCell * double(bound.size()) / 8.0;
-  while (entries_.size() > 1 && double(stored_) > limit) drop(std::prev(entries_.end()));
+  while (entries_.size() > 1 && double(stored_) > limit) {
+    entries_.pop_back();
+    recount();
+  }
+}
+
+// ---- checkpoint form ---------------------------------------------------------------------
+// [layout 1, components, entries, then per entry: prev and cur (9 numbers each: time, cycle,
+// normal force control, normal value, control, target x, target y, relative, turning), shared
+// (1: the previous entry's node list), node count, the nodes unless shared, the values
+// component by component].
+
+namespace {
+
+constexpr double kLayout = 1.0;
+
+void put_step(std::vector<double>& v, const LoadStep& s) {
+  v.insert(v.end(), {s.time, double(s.cycle), s.normal.force_control ? 1.0 : 0.0, s.normal.value,
+                     double(int(s.control)), s.target.x(), s.target.y(), s.relative ? 1.0 : 0.0,
+                     s.turning ? 1.0 : 0.0});
+}
+
+class FlatReader {
+ public:
+  explicit FlatReader(const std::vector<double>& v) : v_(v) {}
+  [[noreturn]] static void fail(const std::string& what) {
+    throw std::runtime_error("predictor: " + what);
+  }
+  double number() {
+    if (at_ >= v_.size()) fail("ends early");
+    const double x = v_[at_++];
+    if (!std::isfinite(x)) fail("holds a non-finite value");
+    return x;
+  }
+  std::size_t count(double hi) {
+    const double x = number();
+    if (x < 0 || x > hi || x != std::floor(x)) fail("bad count " + std::to_string(x));
+    return std::size_t(x);
+  }
+  bool flag() { return count(1) == 1; }
+  LoadStep step() {
+    LoadStep s;
+    s.time = number();
+    const double cycle = number();
+    if (std::abs(cycle) > 2e9 || cycle != std::floor(cycle)) fail("bad cycle");
+    s.cycle = int(cycle);
+    s.normal.force_control = flag();
+    s.normal.value = number();
+    s.control = static_cast<Control>(count(1));
+    s.target.x() = number();
+    s.target.y() = number();
+    s.relative = flag();
+    s.turning = flag();
+    return s;
+  }
+  std::size_t left() const { return v_.size() - at_; }
+
+ private:
+  const std::vector<double>& v_;
+  std::size_t at_ = 0;
+};
+
+}  // namespace
+
+std::vector<double> CyclePredictor::flatten() const {
+  std::vector<double> v;
+  if (entries_.empty()) return v;
+  v.reserve(3 + stored_ + 24 * entries_.size());
+  v.insert(v.end(), {kLayout, double(entries_.front().values.size()), double(entries_.size())});
+  const std::vector<Eigen::Index>* last = nullptr;
+  for (const Entry& e : entries_) {
+    put_step(v, e.prev);
+    put_step(v, e.cur);
+    const bool shared = e.nodes.get() == last;
+    v.push_back(shared ? 1.0 : 0.0);
+    v.push_back(double(e.nodes->size()));
+    if (!shared)
+      for (const Eigen::Index k : *e.nodes) v.push_back(double(k));
+    for (const auto& c : e.values) v.insert(v.end(), c.begin(), c.end());
+    last = e.nodes.get();
+  }
+  return v;
+}
+
+CyclePredictor CyclePredictor::unflatten(const std::vector<double>& v, std::size_t cells,
+                                         int components) {
+  CyclePredictor p;
+  if (v.empty()) return p;
+  FlatReader r(v);
+  if (r.number() != kLayout) FlatReader::fail("unknown layout");
+  if (r.count(2) != std::size_t(components))
+    FlatReader::fail("traction components differ from the run's " + std::to_string(components));
+  const std::size_t entries = r.count(double(v.size()));
+  for (std::size_t i = 0; i < entries; ++i) {
+    Entry e;
+    e.prev = r.step();
+    e.cur = r.step();
+    const bool shared = r.flag();
+    const std::size_t n = r.count(double(cells));
+    if (shared) {
+      if (p.entries_.empty() || p.entries_.back().nodes->size() != n)
+        FlatReader::fail("entry " + std::to_string(i) + " shares no matching node list");
+      e.nodes = p.entries_.back().nodes;
+    } else {
+      auto nodes = std::make_shared<std::vector<Eigen::Index>>();
+      nodes->reserve(n);
+      for (std::size_t j = 0; j < n; ++j) {
+        const auto k = Eigen::Index(r.count(double(cells) - 1));
+        if (!nodes->empty() && k <= nodes->back()) FlatReader::fail("node list not increasing");
+        nodes->push_back(k);
+      }
+      e.nodes = std::move(nodes);
+    }
+    if (r.left() < n * std::size_t(components)) FlatReader::fail("ends early");
+    e.values.assign(std::size_t(components), {});
+    for (auto& c : e.values) {
+      c.reserve(n);
+      for (std::size_t j = 0; j < n; ++j) c.push_back(r.number());
+    }
+    p.entries_.push_back(std::move(e));
+  }
+  if (r.left() != 0) FlatReader::fail("holds " + std::to_string(r.left()) + " numbers too many");
+  p.recount();
+  return p;
 }
 
 }  // namespace fretbem

@@ -7,6 +7,7 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/resources.hpp"
+#include "fretbem/history/cycle_predictor.hpp"
 #include "fretbem/history/preflight.hpp"
 
 namespace fretbem {
@@ -89,7 +90,21 @@ double estimated_peak_bytes(const Scenario& sc) {
   const double cells = double(sc.grid.nx) * double(sc.grid.ny);
   const bool two = sc.solver.coupling != Coupling::analogy || sc.load.direction != 0.0 ||
                    sc.load.path == PathType::table;
-  return (two ? 900.0 : 600.0) * cells + 64.0 * (1 << 20);
+  // An explicit solver.predictor = cycle holds up to its bound; auto counts it only where it
+  // decides for it (use_cycle_predictor), so that it never refuses a grid the run could do.
+  const double predictor =
+      sc.solver.predictor == PredictorMode::cycle ? CyclePredictor::kBytesPerCell * cells : 0.0;
+  return (two ? 900.0 : 600.0) * cells + predictor + 64.0 * (1 << 20);
+}
+
+bool use_cycle_predictor(const Scenario& sc, const LoadPath& path) {
+  if (sc.solver.predictor != PredictorMode::automatic)
+    return sc.solver.predictor == PredictorMode::cycle;
+  const std::vector<char> later = CyclePredictor::repeated_later(path.steps);
+  if (std::find(later.begin(), later.end(), 1) == later.end()) return false;
+  const double cells = double(sc.grid.nx) * double(sc.grid.ny);
+  const double have = usable_memory_bytes();
+  return have <= 0 || estimated_peak_bytes(sc) + CyclePredictor::kBytesPerCell * cells <= have;
 }
 
 // Against what the process may use: inside a batch job (Slurm, containers) the cgroup limit is
@@ -122,6 +137,7 @@ std::unique_ptr<Model> prepare_model(const Scenario& sc) {
   auto m = std::make_unique<Model>();
   m->scenario = sc;
   m->path = make_load_path(sc);
+  m->cycle_predictor = use_cycle_predictor(sc, m->path);
   m->surface0 = make_surface(sc);
   m->surface = m->surface0;
   check_before_solve(sc, m->path, m->surface0);

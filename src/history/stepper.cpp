@@ -10,7 +10,9 @@
 namespace fretbem {
 
 Stepper::Stepper(Model& model)
-    : model_(model), state_(InterfaceState::zeros(*model.tangential_operator)) {}
+    : model_(model), state_(InterfaceState::zeros(*model.tangential_operator)) {
+  if (model_.cycle_predictor) repeated_later_ = CyclePredictor::repeated_later(model_.path.steps);
+}
 
 std::size_t Stepper::run(const std::vector<Observer*>& observers, std::size_t max_steps,
                          const std::function<bool()>& stop) {
@@ -28,8 +30,10 @@ StepperMemory Stepper::memory() const {
   return {next_, last_normal_, last_target_, dissipation_, wear_volume_};
 }
 
-void Stepper::restore(const InterfaceState& state, const StepperMemory& m) {
+void Stepper::restore(const InterfaceState& state, const StepperMemory& m,
+                      CyclePredictor predictor) {
   state_ = state;
+  predictor_ = std::move(predictor);
   model_.friction->bound(state_, bound_);
   next_ = m.next_step;
   last_normal_ = m.last_normal;
@@ -41,12 +45,15 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m) {
 
 StepRecord Stepper::advance(std::size_t k) {
   const std::vector<LoadStep>& steps = model_.path.steps;
-  const bool predict = model_.scenario.solver.cycle_predictor && k > 0;
+  const bool predict = model_.cycle_predictor && k > 0;
   const Grid& g = model_.half_space->grid();
   guess_ = predict ? predictor_.find(steps.at(k - 1), steps.at(k), g.nx, g.ny) : nullptr;
   const StepRecord rec = advance(steps.at(k), int(k));
   guess_ = nullptr;
-  if (predict) predictor_.remember(steps[k - 1], steps[k], state_.traction, bound_);
+  // Only transitions the path repeats are remembered: nothing on a table that never repeats,
+  // nothing in the last cycle of a sine.
+  if (predict && repeated_later_.at(k))
+    predictor_.remember(steps[k - 1], steps[k], state_.traction, bound_);
   next_ = k + 1;
   return rec;
 }

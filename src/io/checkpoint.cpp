@@ -123,6 +123,8 @@ std::vector<char> checkpoint_image(const Model& model, const Stepper& stepper,
   write_state(f.get(), stepper.state());
   write_memory(f.get(), stepper.memory());
   write_field(f.get(), "surface", model.surface);
+  if (!stepper.predictor().empty())
+    write_vector(f.get(), "predictor", stepper.predictor().flatten());
   const InputDigest inputs = input_digest(model);
   write_text(f.get(), "input_digest_path", inputs.path);
   write_text(f.get(), "input_digest_surface", inputs.surface);
@@ -362,6 +364,7 @@ Checkpoint load_checkpoint(const fs::path& dir) {
   c.memory = read_memory(r);
   c.surface = r.field("surface");
   c.wear = read_wear(r);
+  if (r.exists("predictor")) c.predictor = r.array("predictor", nullptr);
   if (r.exists("input_digest_path") && r.exists("input_digest_surface"))
     c.inputs = InputDigest{r.text("input_digest_path"), r.text("input_digest_surface")};
   return c;

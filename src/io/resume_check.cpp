@@ -114,6 +114,11 @@ void validate_checkpoint(const Checkpoint& cp, const Model& m, const fs::path& f
   if (mem.last_target.size() > 2 || !mem.last_target.allFinite())
     refuse(file, "last_target is not a finite 1- or 2-vector");
   if (cp.wear) check_wear(file, *cp.wear, m);
+  try {
+    (void)CyclePredictor::unflatten(cp.predictor, std::size_t(g.nx * g.ny), nc);
+  } catch (const std::runtime_error& e) {
+    refuse(file, e.what());
+  }
 }
 
 }  // namespace fretbem

@@ -120,8 +120,10 @@ void write_solver(IniWriter& w, const SolverSpec& s) {
   w.put("fft_precision",
         std::string(s.fft_precision == FftPrecision::float32 ? "float" : "double"));
   w.put("monotone", std::string(s.shortcut ? "shortcut" : "incremental"));
-  // Written only when on: resolved scenarios of runs without it stay as they were.
-  if (s.cycle_predictor) w.put("predictor", std::string("cycle"));
+  // Written only when not the default (auto): resolved scenarios of default runs stay as they
+  // were (and a checkpoint of an older run without the key resumes with auto).
+  if (s.predictor != PredictorMode::automatic)
+    w.put("predictor", std::string(s.predictor == PredictorMode::cycle ? "cycle" : "none"));
   w.put("precondition", std::string(s.precondition == Precondition::automatic ? "automatic"
                                     : s.precondition == Precondition::on      ? "on"
                                                                               : "off"));

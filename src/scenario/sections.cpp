@@ -263,8 +263,11 @@ void read_solver(const Reader& r, SolverSpec& s) {
     s.fft_measure = r.choice("solver.fft_plan", {"estimate", "measure"}) == 1;
   if (r.has("solver.monotone"))
     s.shortcut = r.choice("solver.monotone", {"incremental", "shortcut"}) == 1;
-  if (r.has("solver.predictor"))
-    s.cycle_predictor = r.choice("solver.predictor", {"none", "cycle"}) == 1;
+  if (r.has("solver.predictor")) {
+    static constexpr PredictorMode kinds[] = {PredictorMode::automatic, PredictorMode::none,
+                                              PredictorMode::cycle};
+    s.predictor = kinds[r.choice("solver.predictor", {"auto", "none", "cycle"})];
+  }
   if (r.has("solver.precondition")) {
     static constexpr Precondition kinds[] = {Precondition::automatic, Precondition::on,
                                              Precondition::off};

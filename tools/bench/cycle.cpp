@@ -8,10 +8,17 @@
 // and per convolution the solvers performed (the overhead of their element-wise passes).
 // FFT plans as `fretbem run` makes them (MEASURE with wisdom), one thread.
 //
+// The unit: one bare convolution is sampled before every timed cycle and after the last (a
+// batch of ~20 ms per sample), so the unit sees the same machine state as the cycles it divides;
+// each row uses the median of its own samples and reports their spread (min-max over median).
+// A single up-front measurement varied 0.996-1.503 ms between rows of one loaded run.
+//
 // Usage: bench_cycle [--max-n N] [--repeats R] [--min-n N]
+#include <algorithm>
 #include <cstdio>
 #include <ctime>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench_util.hpp"
@@ -40,14 +47,48 @@ double cpu_now() {
   return double(std::clock()) / CLOCKS_PER_SEC;
 }
 
-// Runs the first cycle (transient), then times each later one.
-std::vector<CycleCost> later_cycles(int n, const char* stiffness, const char* predictor,
-                                    int cycles) {
+// One bare convolution (HalfSpace::normal) with the plans a run uses: CPU seconds per call,
+// sampled in batches of ~20 ms between the cycles being timed.
+class BareConvolution {
+ public:
+  explicit BareConvolution(int n)
+      : hs_(Grid::square(n, 1.0), material(), Coupling::analogy,
+            FftOptions{1, true, FftPrecision::float64}),
+        p_(Field::Random(n, n)) {
+    const double cpu0 = cpu_now();
+    hs_.normal(p_, u_);  // warm-up
+    batch_ = std::max(1, int(0.02 / std::max(cpu_now() - cpu0, 1e-6)));
+  }
+  void sample() {
+    const double cpu0 = cpu_now();
+    for (int b = 0; b < batch_; ++b) hs_.normal(p_, u_);
+    samples_.push_back((cpu_now() - cpu0) / batch_);
+  }
+  /// The samples taken since the last call, and a fresh start.
+  std::vector<double> take() { return std::exchange(samples_, {}); }
+
+ private:
+  static Material material() {
+    Material m;
+    m.body1 = {1.0, 0.3};
+    return m;
+  }
+  HalfSpace hs_;
+  Field p_, u_;
+  int batch_ = 1;
+  std::vector<double> samples_;
+};
+
+// Runs the first cycle (transient), then times each later one; the unit is sampled before
+// every timed cycle and after the last.
+std::vector<CycleCost> later_cycles(int n, const char* stiffness, const char* predictor, int cycles,
+                                    BareConvolution& unit) {
   auto model = build_model(parse_scenario(scenario(n, stiffness, predictor, cycles), "bench", "."));
   Stepper stepper(*model);
   std::size_t k = 0;
   std::vector<CycleCost> out;
   for (int c = 1; c <= cycles; ++c) {
+    if (c > 1) unit.sample();
     const auto c0 = model->half_space->convolutions();
     const auto t0 = bench::Clock::now();
     const double cpu0 = cpu_now();
@@ -56,17 +97,8 @@ std::vector<CycleCost> later_cycles(int n, const char* stiffness, const char* pr
       out.push_back({bench::seconds_since(t0), cpu_now() - cpu0,
                      long(model->half_space->convolutions() - c0)});
   }
+  unit.sample();
   return out;
-}
-
-// One bare convolution (HalfSpace::normal) with the plans a run uses, CPU seconds.
-double bare_convolution(int n) {
-  Grid g = Grid::square(n, 1.0);
-  Material m;
-  m.body1 = {1.0, 0.3};
-  HalfSpace hs(g, m, Coupling::analogy, FftOptions{1, true, FftPrecision::float64});
-  Field p = Field::Random(n, n), u;
-  return bench::cpu_per_call([&] { hs.normal(p, u); }, 7);
 }
 
 int max_n = 512, min_n = 128, repeats = 3;
@@ -87,32 +119,45 @@ int main(int argc, char** argv) {
   std::printf("load average %.2f at start\n\n", bench::load_average());
   std::printf(
       "| n | stiffness | predictor | cycle | cycle wall (s) | cycle CPU (s) | convolutions / cycle "
-      "| conv CPU (ms) | cycle CPU / conv | CPU per solver convolution / conv |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+      "| conv CPU (ms), median | conv spread (min-max / median) | cycle CPU / conv | CPU per "
+      "solver convolution / conv |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int n = min_n; n <= max_n; n *= 2) {
+    BareConvolution unit(n);
+    std::vector<double> all;
     for (const char* predictor : {"none", "cycle"}) {
       const int cycles = predictor[0] == 'n' ? 2 : 3;
       for (const char* stiff : {"every", "turning", "none"}) {
         std::vector<std::vector<double>> wall(cycles - 1), cpu(cycles - 1);
         std::vector<long> conv(cycles - 1);
         for (int r = 0; r < repeats; ++r) {
-          const std::vector<CycleCost> cs = later_cycles(n, stiff, predictor, cycles);
+          const std::vector<CycleCost> cs = later_cycles(n, stiff, predictor, cycles, unit);
           for (std::size_t i = 0; i < cs.size(); ++i)
             wall[i].push_back(cs[i].wall), cpu[i].push_back(cs[i].cpu),
                 conv[i] = cs[i].convolutions;
         }
-        const double tc = bare_convolution(n);
+        const std::vector<double> t = unit.take();
+        all.insert(all.end(), t.begin(), t.end());
+        const double tc = bench::median(t);
+        const auto [lo, hi] = std::minmax_element(t.begin(), t.end());
         for (std::size_t i = 0; i < conv.size(); ++i) {
           const double tm = bench::median(cpu[i]);
           // Last column: what one convolution of the solvers costs with the element-wise passes
           // and sparse updates around it, in bare convolutions (1 = no overhead).
-          std::printf("| %d | %s | %s | %zu | %.3f | %.3f | %ld | %.3f | %.0f | %.2f |\n", n, stiff,
-                      predictor, i + 2, bench::median(wall[i]), tm, conv[i], 1e3 * tc, tm / tc,
-                      tm / tc / double(conv[i]));
+          std::printf(
+              "| %d | %s | %s | %zu | %.3f | %.3f | %ld | %.3f | %.0f %% (%zu samples) | "
+              "%.0f | %.2f |\n",
+              n, stiff, predictor, i + 2, bench::median(wall[i]), tm, conv[i], 1e3 * tc,
+              100.0 * (*hi - *lo) / tc, t.size(), tm / tc, tm / tc / double(conv[i]));
         }
         std::fflush(stdout);
       }
     }
+    const auto [lo, hi] = std::minmax_element(all.begin(), all.end());
+    std::printf(
+        "n = %d: bare convolution over the whole run: median %.3f ms, min %.3f, max %.3f "
+        "(%zu samples)\n",
+        n, 1e3 * bench::median(all), 1e3 * *lo, 1e3 * *hi, all.size());
   }
   std::printf("\nload average %.2f at end\n", bench::load_average());
 }

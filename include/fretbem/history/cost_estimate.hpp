@@ -28,6 +28,11 @@ inline constexpr double kCalibrationSeconds = 1.0;
 /// the previous one in the same direction. Measured steady/first-step convolution ratios:
 /// 0.45 (Mindlin n = 64), 0.53 (n = 128), 0.59 (rough cycle n = 128), docs/reliability.md.
 inline constexpr double kSettledStepShare = 0.5;
+/// Cost of a step the cycle predictor starts (Model::cycle_predictor, a load transition seen
+/// before) relative to the first steps: bench_cycle n = 256, 541 convolutions in cycle 2 and
+/// 192 from cycle 3 on against ~18 per first step (64 steps): 0.47 and 0.17; the shipped
+/// cyclic scenarios at n = 32 (test_cost_estimate) put the mean near 0.15.
+inline constexpr double kPredictedStepShare = 0.15;
 
 /// Builds the model (operators included), solves the first steps and extrapolates: the
 /// convolutions of step 0 plus the mean of the calibrated tangential steps times the steps

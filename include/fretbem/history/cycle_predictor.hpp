@@ -1,5 +1,5 @@
 // CyclePredictor: the converged tangential tractions of recent steps, offered as the start of
-// the same step one load cycle later (solver.predictor = cycle, issue 13).
+// the same step one load cycle later (solver.predictor, issue 13).
 #pragma once
 
 #include <cstdint>
@@ -15,8 +15,17 @@ class CyclePredictor {
  public:
   /// Memory bound: at most this many bytes per grid cell for all remembered tractions (one
   /// component on the contact nodes of a Hertz cycle of 64 steps at 20 % contact: ~100; the
-  /// node list is shared while the contact does not change).
+  /// node list is shared while the contact does not change). The memory guard adds it to the
+  /// run's estimate (estimated_peak_bytes).
   static constexpr double kBytesPerCell = 128.0;
+
+  /// For each step k of the path: whether the transition steps[k-1] -> steps[k] occurs again
+  /// at a later step (only those are worth remembering). Transitions are compared on loads
+  /// rounded to 1e-7 of the path's largest load: a near miss only stores one entry more or
+  /// less, never changes a result. Step 0 (no transition) is false.
+  static std::vector<char> repeated_later(const std::vector<LoadStep>& steps);
+  /// Same, for whether the transition occurred at an earlier step (the predictor has it).
+  static std::vector<char> repeated_earlier(const std::vector<LoadStep>& steps);
 
   /// The traction (Pa, full grid, operator components) remembered for a step that went from
   /// load `prev` to load `cur`, or nullptr. The pointer is valid until the next call.
@@ -24,6 +33,16 @@ class CyclePredictor {
   /// Remembers the traction on the contact nodes (bound > 0) after the step prev -> cur.
   void remember(const LoadStep& prev, const LoadStep& cur, const VecField& traction,
                 const Field& bound);
+  bool empty() const { return entries_.empty(); }
+  /// Doubles and node indices held.
+  std::size_t stored() const { return stored_; }
+
+  /// The whole memory as one flat list of numbers (the checkpoint's dataset `predictor`);
+  /// empty when nothing is remembered.
+  std::vector<double> flatten() const;
+  /// The memory `flatten` wrote, for a grid of `cells` cells and `components` traction
+  /// components; throws std::runtime_error saying what is wrong on any inconsistency.
+  static CyclePredictor unflatten(const std::vector<double>& v, std::size_t cells, int components);
 
  private:
   struct Entry {
@@ -31,6 +50,7 @@ class CyclePredictor {
     std::shared_ptr<const std::vector<Eigen::Index>> nodes;
     std::vector<std::vector<double>> values;  ///< per component, per node
   };
+  void recount();
   std::deque<Entry> entries_;
   std::size_t stored_ = 0;  ///< doubles and indices held (a shared node list once)
   VecField guess_;

@@ -29,7 +29,10 @@ struct Model {
   /// Identity of this run's outputs (result.h5 /run_id and the checkpoint's run_id): set
   /// when a run starts, kept by a resume, so outputs of different runs are never mixed.
   std::string run_id;
-  std::unique_ptr<FrictionLaw> friction;       ///< the Coulomb bound of every node
+  std::unique_ptr<FrictionLaw> friction;  ///< the Coulomb bound of every node
+  /// Whether tangential increments try the same step of the previous cycle as their start
+  /// (solver.predictor resolved by use_cycle_predictor).
+  bool cycle_predictor = false;
 };
 
 /// Whether the step with this index and turning flag reports kx (solver.stiffness): every
@@ -47,6 +50,10 @@ std::unique_ptr<Model> build_model(const Scenario& sc);
 /// Upper estimate of the peak memory (bytes) of a run of this scenario, from the grid alone:
 /// calibrated on peak RSS measured with /usr/bin/time -v (docs/performance.md, "Memory").
 double estimated_peak_bytes(const Scenario& sc);
+/// solver.predictor resolved: cycle and none as said; auto: cycle when some transition of the
+/// path's load occurs again later (a periodic path) and the run's memory estimate with the
+/// predictor's bound (CyclePredictor::kBytesPerCell) still fits in the usable memory.
+bool use_cycle_predictor(const Scenario& sc, const LoadPath& path);
 /// Throws InputError (one line) when the estimate exceeds the memory this process may use (the
 /// smaller of physical memory and its cgroup limit, core/resources.hpp): a grid
 /// that cannot fit is refused before anything large is allocated. build_model calls it.

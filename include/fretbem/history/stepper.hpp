@@ -57,9 +57,12 @@ class Stepper {
   void set_wear_cycle(double N) { wear_cycle_ = N; }
 
   const InterfaceState& state() const { return state_; }
-  /// Restart support: the complete state after the last finished step, and its restoration.
+  /// Restart support: the complete state after the last finished step, and its restoration
+  /// (with the cycle predictor's memory; an empty one for checkpoints written without it).
   StepperMemory memory() const;
-  void restore(const InterfaceState& state, const StepperMemory& memory);
+  const CyclePredictor& predictor() const { return predictor_; }
+  void restore(const InterfaceState& state, const StepperMemory& memory,
+               CyclePredictor predictor = {});
   std::size_t steps() const { return model_.path.steps.size(); }
 
  private:
@@ -92,9 +95,10 @@ class Stepper {
   double wear_volume_ = 0.0;
   std::size_t next_ = 0;
   bool surface_changed_ = false;
-  double wear_cycle_ = -1.0;         // < 0: not a wear run
-  CyclePredictor predictor_;         ///< solver.predictor = cycle
-  const VecField* guess_ = nullptr;  ///< the predictor of the step being advanced
+  double wear_cycle_ = -1.0;          // < 0: not a wear run
+  CyclePredictor predictor_;          ///< Model::cycle_predictor
+  std::vector<char> repeated_later_;  ///< CyclePredictor::repeated_later of the path
+  const VecField* guess_ = nullptr;   ///< the predictor of the step being advanced
   /// Coupling::coupled: tangential displacement (m) of the pressure at the end of the last
   /// step (the start of this one); empty until first needed (and after a restore).
   VecField pressure_slip_;

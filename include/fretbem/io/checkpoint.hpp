@@ -26,6 +26,10 @@ struct Checkpoint {
   StepperMemory memory;
   Field surface;                       ///< current (possibly worn) indenter height (m)
   std::optional<WearCheckpoint> wear;  ///< wear runs: where the wear integration stands
+  /// The cycle predictor's memory (dataset `predictor`, CyclePredictor::flatten, written when
+  /// not empty; checked by validate_checkpoint); checkpoints written before it have none and
+  /// resume with an empty predictor.
+  std::vector<double> predictor;
   /// Fingerprints of the run's load path and initial surface (absent in checkpoints written
   /// before session 5: then not checked).
   std::optional<InputDigest> inputs;

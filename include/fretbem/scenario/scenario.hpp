@@ -23,6 +23,9 @@ enum class TangentialAlgorithm { projected, partition };
 /// the ends of monotone segments (step 0, turning points, the last step), or never. Rows
 /// without it carry kx = nan.
 enum class StiffnessMode { every, turning, none };
+/// solver.predictor: where a tangential increment may start (CyclePredictor). automatic: cycle
+/// when the load path repeats a transition and the remembered tractions fit in memory.
+enum class PredictorMode { automatic, none, cycle };
 enum class WearLaw { none, archard, energy };
 /// arkode: erk or dirk, whichever the run's length against the explicit stability cap favours.
 enum class WearIntegrator { arkode, cycle, erk, dirk };
@@ -82,11 +85,11 @@ struct SolverSpec {
   /// Virgin monotone segments at constant normal load by the Ciavarella–Jäger superposition
   /// (analogy, collinear paths) instead of incremental solves.
   bool shortcut = false;
-  /// solver.predictor = cycle: a tangential increment also tries, as its start, the traction of
-  /// the same step one load cycle earlier (the step with the same previous and current load).
-  /// Opt-in: the remembered tractions are not in the checkpoint, so a resumed run would start
-  /// those increments elsewhere and differ from the uninterrupted one within the tolerance.
-  bool cycle_predictor = false;
+  /// solver.predictor: cycle: a tangential increment also tries, as its start, the traction of
+  /// the same step one load cycle earlier (the step with the same previous and current load);
+  /// none: it does not; automatic (the default): cycle where it is safe (use_cycle_predictor).
+  /// The remembered tractions are part of the checkpoint (a resume is byte-identical).
+  PredictorMode predictor = PredictorMode::automatic;
   /// Fourier preconditioning of the normal CG and the tangential projected CG; automatic: the
   /// measured rules (normal: from 256 x 256 cells; tangential: contact patch >= 2048 nodes).
   Precondition precondition = Precondition::automatic;
