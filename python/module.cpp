@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <sstream>
@@ -14,6 +15,7 @@
 #include "fretbem/contact/monotone_shortcut.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/history/model.hpp"
+#include "fretbem/history/preflight.hpp"
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/io/run_output.hpp"
 #include "fretbem/scenario/scenario.hpp"
@@ -26,12 +28,16 @@ namespace {
 
 // A Field (nx x ny, column-major: x fastest) seen as a numpy (ny, nx) C-ordered array that
 // shares its memory; `owner` keeps the storage alive.
+// Read-only: the solver's own state. Writing NaN into model.surface ran into "normal solver
+// did not converge: residual nan", naming nothing (issue 14, session 6); copy to modify.
 template <class Array>
 py::array view_yx(const Array& f, py::handle owner) {
   using T = typename Array::Scalar;
   const auto s = static_cast<py::ssize_t>(sizeof(T));
-  return py::array_t<T>({py::ssize_t(f.cols()), py::ssize_t(f.rows())},
-                        {s * py::ssize_t(f.rows()), s}, f.data(), owner);
+  py::array a = py::array_t<T>({py::ssize_t(f.cols()), py::ssize_t(f.rows())},
+                               {s * py::ssize_t(f.rows()), s}, f.data(), owner);
+  a.attr("setflags")(py::arg("write") = false);
+  return a;
 }
 
 py::array copy_yx(const Field& f) {
@@ -147,6 +153,13 @@ void bind_model(py::module_& m) {
              if (!surface.is_none()) {
                pm->model->surface0 = field_from(surface, layout, sc.grid);
                pm->model->surface = pm->model->surface0;
+               // The checks a height-map file meets (heights of 1e200 m ran into "residual
+               // -nan" instead).
+               try {
+                 check_before_solve(sc, pm->model->path, pm->model->surface0);
+               } catch (const InputError& e) {
+                 throw InputError(std::string("Model(surface=...): ") + e.what());
+               }
              }
              return pm;
            }),
@@ -163,6 +176,9 @@ void bind_model(py::module_& m) {
 void bind_stepper(py::module_& m) {
   py::class_<PyStepper>(m, "Stepper", "Walks the load path one step at a time.")
       .def(py::init([](std::shared_ptr<PyModel> pm) {
+             // pybind11 passes None as an empty holder: Stepper(None) was a SIGSEGV.
+             if (!pm)
+               throw py::type_error("Stepper(model): model must be a fretbem.Model, not None");
              PyStepper s;
              s.owner = pm;
              s.stepper = std::make_unique<Stepper>(*pm->model);
@@ -229,13 +245,33 @@ void bind_closed_forms(py::module_& m) {
       "normal contact: {'traction' (Pa, [ny][nx]), 'shift' (m), 'force' (N)}.");
 }
 
+// InputError and SolverError as Python exceptions whose message survives bytes that are not
+// UTF-8 (a scenario of binary garbage quotes its line: the message was empty before).
+void register_errors(py::module_& m) {
+  static py::exception<InputError> input(m, "InputError", PyExc_ValueError);
+  static py::exception<SolverError> solver(m, "SolverError", PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    auto raise = [](const py::object& type, const char* what) {
+      PyObject* msg = PyUnicode_DecodeUTF8(what, Py_ssize_t(std::strlen(what)), "replace");
+      PyErr_SetObject(type.ptr(), msg);
+      Py_XDECREF(msg);
+    };
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InputError& e) {
+      raise(input, e.what());
+    } catch (const SolverError& e) {
+      raise(solver, e.what());
+    }
+  });
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_fretbem, m) {
   m.doc() = "fretbem: frictional contact of rough elastic surfaces under load histories";
   m.attr("__version__") = FRETBEM_VERSION;
-  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
-  py::register_exception<SolverError>(m, "SolverError", PyExc_RuntimeError);
+  register_errors(m);
   bind_scenario(m);
   bind_model(m);
   bind_stepper(m);

@@ -94,6 +94,37 @@ class Api(unittest.TestCase):
         c = fretbem.Contact((210e9, 0.3), mu=0.5, radius=0.01, normal_force=10)
         self.assertAlmostEqual(c.hertz_radius() * 1e6, 68.75, places=1)
 
+    def test_hostile_arguments_raise_and_never_crash(self):
+        """Issue 14, session 6 (tools/bench/hostile_hunt.py): Stepper(None) was a SIGSEGV of the
+        interpreter; a surface of 1e200 m and NaN written into the surface view ended in
+        "residual -nan"; GW stiffness past full sliding was NaN; Contact(radius=-1) complex."""
+        sc = fretbem.Scenario.from_file(SCENARIO, SMALL)
+        with self.assertRaises(TypeError):
+            fretbem.Stepper(None)
+        z = np.zeros(sc.shape)
+        z[8, 8] = 1e200
+        with self.assertRaisesRegex(fretbem.InputError, "heights up to 1e\\+200 m"):
+            fretbem.Model(sc, z)
+        model = fretbem.Model(sc)
+        stepper = fretbem.Stepper(model)
+        stepper.advance()
+        for view in (model.surface, stepper.pressure, stepper.state):
+            with self.assertRaises(ValueError):  # read-only: the solver's own state
+                view[0, 0] = np.nan
+        self.assertEqual(stepper.advance()["step"], 1)
+        with self.assertRaisesRegex(fretbem.InputError, "must be in \\[0, 1\\]"):
+            fretbem.gw.stiffness_ratio_fractal(1.5, 0.5)
+        with self.assertRaisesRegex(fretbem.InputError, "Hurst"):
+            fretbem.gw.stiffness_ratio_fractal(0.5, 0.0)
+        with self.assertRaisesRegex(ValueError, "radius"):
+            fretbem.Contact((210e9, 0.3), mu=0.5, radius=-1, normal_force=10)
+        c = fretbem.Contact((210e9, 0.3), mu=0.5, radius=0.01, normal_force=10)
+        with self.assertRaisesRegex(ValueError, "full sliding"):
+            c.md_energy(6.0)
+        # A message quoting bytes that are not UTF-8 still says what it is about.
+        with self.assertRaisesRegex(fretbem.InputError, "invalid line"):
+            fretbem.Scenario.from_text(b"\xff\xfe".decode("latin-1"))
+
 
 if __name__ == "__main__":
     unittest.main(argv=[sys.argv[0]], verbosity=1)

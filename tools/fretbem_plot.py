@@ -63,19 +63,62 @@ def count(N):
     return f"{N:.6g}"
 
 
+class Columns(dict):
+    """The columns of a CSV file; a missing one ends the tool naming the file and the column
+    (a foreign or damaged file gave a KeyError traceback)."""
+
+    def __init__(self, columns, path, tool):
+        super().__init__(columns)
+        self.path, self.tool = path, tool
+
+    def __missing__(self, key):
+        fail(self.tool, f"{self.path}: no column '{key}' (not the file this tool reads?)")
+
+
 def read_csv(path, tool):
     """A fretbem CSV (header row, numbers, `nan` allowed; `#` comment lines skipped) as a dict
-    of numpy columns."""
+    of numpy columns. A torn or foreign file ends the tool with one line naming file and line."""
     if not os.path.exists(path):
         fail(tool, f"{path}: not found")
-    with open(path) as f:
-        lines = [ln for ln in f if ln.strip() and not ln.lstrip().startswith("#")]
+    with open(path, errors="replace") as f:
+        lines = [(n, ln) for n, ln in enumerate(f, 1)
+                 if ln.strip() and not ln.lstrip().startswith("#")]
     if not lines:
         fail(tool, f"{path}: empty")
-    names = [c.strip() for c in lines[0].split(",")]
-    rows = [[float(c) if c.strip() else math.nan for c in ln.split(",")] for ln in lines[1:]]
+    names = [c.strip() for c in lines[0][1].split(",")]
+    rows = []
+    for n, ln in lines[1:]:
+        cells = ln.split(",")
+        if len(cells) != len(names):
+            fail(tool, f"{path}:{n}: {len(cells)} values for {len(names)} columns (a torn "
+                       "or foreign file)")
+        try:
+            rows.append([float(c) if c.strip() else math.nan for c in cells])
+        except ValueError:
+            fail(tool, f"{path}:{n}: not a number in '{ln.strip()[:60]}' (a torn file?)")
     data = np.array(rows, dtype=float).reshape(len(rows), len(names))
-    return {n: data[:, i] for i, n in enumerate(names)}
+    return Columns({n: data[:, i] for i, n in enumerate(names)}, path, tool)
+
+
+def open_h5(path, tool):
+    """h5py.File(path) for reading; a missing or damaged file ends the tool in one line."""
+    import h5py
+
+    if not os.path.exists(path):
+        fail(tool, f"{path}: not found")
+    try:
+        return h5py.File(path, "r")
+    except OSError as e:
+        fail(tool, f"{path}: cannot be read as HDF5 ({e})")
+
+
+def guarded(main, tool):
+    """Runs a tool's main: what a damaged run folder still raises past the checks above (a
+    group missing from result.h5, an unreadable file) ends in one line, not a traceback."""
+    try:
+        main()
+    except (KeyError, OSError, ValueError, IndexError) as e:
+        fail(tool, f"cannot read the run's files: {type(e).__name__}: {e}")
 
 
 def read_scenario(run_dir):

@@ -156,4 +156,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    fp.guarded(main, TOOL)

@@ -14,7 +14,6 @@ RUN_DIR/FIELD.png).
 import argparse
 import os
 
-import h5py
 import numpy as np
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
@@ -85,7 +84,7 @@ def main():
     path = os.path.join(args.run_dir, "result.h5")
     if not os.path.exists(path):
         fp.fail(TOOL, f"{path}: not found")
-    with h5py.File(path, "r") as h5:
+    with fp.open_h5(path, TOOL) as h5:
         saved = saved_steps(h5)
         steps = [int(s) for s in args.steps.split(",")] if args.steps else \
             default_steps(saved, ts)
@@ -113,4 +112,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    fp.guarded(main, TOOL)

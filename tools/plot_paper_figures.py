@@ -21,9 +21,18 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import fretbem_plot as fp  # noqa: E402
+
+TOOL = "plot_paper_figures"
+
 
 def read_aggregate(path):
-    rows = list(csv.DictReader(open(path)))
+    if not os.path.exists(path):
+        fp.fail(TOOL, f"{path}: not found (run fretbem ensemble first)")
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    if not rows:
+        fp.fail(TOOL, f"{path}: no rows")
     out = {}
     for r in rows:
         out.setdefault(float(r["hurst"]), []).append({k: float(v) for k, v in r.items()})
@@ -167,4 +176,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    fp.guarded(main, TOOL)

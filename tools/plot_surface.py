@@ -23,17 +23,13 @@ TOOL = "plot_surface"
 
 def load(path, which):
     if os.path.isdir(path):
-        import h5py
-
         scn = fp.read_scenario(path)
-        with h5py.File(os.path.join(path, "result.h5"), "r") as f:
+        with fp.open_h5(os.path.join(path, "result.h5"), TOOL) as f:
             z = np.asarray(f[f"surface/{which}"], dtype=float)
         return z, fp.number(scn, "grid.length"), scn.get("grid.periodic") == "true"
     ext = os.path.splitext(path)[1].lower()
     if ext in (".h5", ".hdf5"):
-        import h5py
-
-        with h5py.File(path, "r") as f:
+        with fp.open_h5(path, TOOL) as f:
             return np.asarray(f["height"], dtype=float), None, None
     if ext == ".npy":
         return np.load(path).astype(float), None, None
@@ -108,4 +104,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    fp.guarded(main, TOOL)

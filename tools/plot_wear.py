@@ -16,7 +16,6 @@ solve each monotone segment in one increment; loop_rows picks them, used by the 
 import argparse
 import os
 
-import h5py
 import numpy as np
 
 import fretbem_plot as fp
@@ -34,7 +33,7 @@ def main():
                     help="fretbem binary for the loops (default build/fretbem, else PATH)")
     a = ap.parse_args()
     out = a.out or os.path.join(a.dir, "wear.png")
-    with h5py.File(os.path.join(a.dir, "result.h5"), "r") as f:
+    with fp.open_h5(os.path.join(a.dir, "result.h5"), TOOL) as f:
         if "wear" not in f:
             fp.fail(TOOL, f"{a.dir} is not a wear run (no /wear in result.h5)")
         z0 = f["surface/initial"][()]
@@ -186,7 +185,7 @@ def loop_at(run_dir, wanted, binary, work, steps=64):
     indenter height minus the total worn depth (both bodies' shares: the gap sees their sum)."""
     import subprocess
 
-    with h5py.File(os.path.join(run_dir, "result.h5"), "r") as f:
+    with fp.open_h5(os.path.join(run_dir, "result.h5"), TOOL) as f:
         snaps = sorted(k for k in f["wear"].keys() if k.startswith("snapshot_"))
         times = [float(f["wear"][s].attrs["time"]) for s in snaps]
         i = nearest_snapshot(wanted, times)
@@ -236,4 +235,4 @@ def plot_loops(a, wear):
 
 
 if __name__ == "__main__":
-    main()
+    fp.guarded(main, TOOL)

@@ -6,16 +6,30 @@ this file without the compiled module.
 import numpy as np
 
 
+def _positive(name, value):
+    if not (np.isfinite(value) and value > 0):
+        raise ValueError(f"Contact: {name} = {value} must be a positive finite number")
+
+
 class Contact:
     """A sphere of radius R pressed with force P on a half-space; bodies as (E, nu) pairs, the
     second None for a rigid indenter."""
 
     def __init__(self, body1, body2=None, mu=0.3, radius=None, normal_force=None):
+        # Checked: a negative radius gave complex energies and 0 a ZeroDivisionError.
+        _positive("mu", mu)
+        if radius is not None:
+            _positive("radius", radius)
+        if normal_force is not None:
+            _positive("normal_force", normal_force)
         inv_e, inv_g = 0.0, 0.0
         for body in (body1, body2):
             if body is None:
                 continue
             E, nu = body
+            _positive("E", E)
+            if not -1 < nu <= 0.5:
+                raise ValueError(f"Contact: nu = {nu} is not a Poisson ratio in (-1, 0.5]")
             inv_e += (1 - nu**2) / E
             inv_g += (2 - nu) / (4 * E / (2 * (1 + nu)))
         self.E_star, self.G_star = 1 / inv_e, 1 / inv_g
@@ -42,13 +56,20 @@ class Contact:
         """Full-sliding shift U* = mu delta E*/G* (delta: normal approach)."""
         return self.mu * delta * self.E_star / self.G_star
 
+    def _below_sliding(self, Q):
+        if np.any(~(np.abs(np.asarray(Q, dtype=float)) <= self.mu * self.P)):
+            raise ValueError(f"Contact: tangential force {Q} N is not within mu P = "
+                             f"{self.mu * self.P} N (full sliding)")
+
     def stick_radius(self, Q):
         """Cattaneo: c = a (1 - Q/mu P)^(1/3)."""
+        self._below_sliding(Q)
         return self.hertz_radius() * (1 - abs(Q) / (self.mu * self.P)) ** (1 / 3)
 
     def md_shift(self, Q):
         """Monotone Cattaneo–Mindlin shift under tangential force Q (|Q| < mu P):
         (3 mu P / 4 a G*) (1 - (1 - Q/mu P)^(2/3)), odd in Q."""
+        self._below_sliding(Q)
         a, muP = self.hertz_radius(), self.mu * self.P
         Q = np.asarray(Q, dtype=float)
         return np.sign(Q) * 3 * muP / (4 * a * self.G_star) * (1 - (1 - np.abs(Q) / muP) ** (2 / 3))
@@ -74,6 +95,7 @@ class Contact:
     def md_energy(self, Q_star):
         """Energy per cycle (J): (9 mu^2 P^2 / 10 a)(4/G*)[1 - (1-x)^(5/3) - (5x/6)(1 + (1-x)^(2/3))],
         x = Q*/mu P (Johnson eq. 7.60 with (2-nu1)/G1 + (2-nu2)/G2 = 4/G*)."""
+        self._below_sliding(Q_star)
         a, muP = self.hertz_radius(), self.mu * self.P
         x = Q_star / muP
         bracket = 1 - (1 - x) ** (5 / 3) - 5 * x / 6 * (1 + (1 - x) ** (2 / 3))

@@ -6,8 +6,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <new>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -82,6 +84,24 @@ struct Args {
   long member = -1;                      // sweep
 };
 
+// Options of one command given to another were ignored without a word (`fretbem sweep S
+// --seeds 5`, `fretbem run S --jobs 4`; issue 14, session 6). `check` takes `run`'s options
+// too, so that a run's command line can be checked as it is.
+void refuse_foreign_options(const std::string& command, const po::variables_map& vm) {
+  static const std::map<std::string, std::set<std::string>> kOptions{
+      {"run", {"set", "out", "quiet", "overwrite", "resume", "stop-after"}},
+      {"check", {"set", "out", "quiet", "overwrite", "stop-after", "no-estimate"}},
+      {"surface", {"set", "out", "quiet"}},
+      {"ensemble", {"set", "out", "quiet", "overwrite", "hurst", "seeds", "jobs", "bins"}},
+      {"sweep", {"set", "out", "quiet", "jobs", "list", "aggregate", "member"}}};
+  const auto it = kOptions.find(command);
+  if (it == kOptions.end()) return;  // help, version, or an unknown command (refused later)
+  for (const auto& [name, value] : vm)
+    if (name != "positional" && name != "help" && name != "version" && !it->second.count(name))
+      throw InputError("--" + name + " is not an option of `fretbem " + command +
+                       "` (fretbem --help lists each command's options)");
+}
+
 Args parse_args(int argc, char** argv) {
   po::options_description opts("options");
   opts.add_options()("help,h", "")("version", "")("set", po::value<std::vector<std::string>>(), "")(
@@ -128,6 +148,7 @@ Args parse_args(int argc, char** argv) {
   }
   if (p.size() > 2) throw InputError("unexpected argument '" + p[2] + "'");
   if (p.size() == 2) a.scenario = p[1];
+  refuse_foreign_options(a.command, vm);
   return a;
 }
 

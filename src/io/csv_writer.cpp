@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/text_file.hpp"
 
 namespace fretbem::io {
 
@@ -49,8 +50,7 @@ CsvWriter::CsvWriter(const fs::path& dir, const std::string& name,
     : path_(dir / (name + ".csv")), ncols_(columns.size()) {
   const std::string header = header_line(columns);
   std::error_code ec;
-  if (!dir.empty()) fs::create_directories(dir, ec);
-  if (ec) throw InputError(dir.string() + ": cannot create the output folder: " + ec.message());
+  create_output_folder(dir);
   // A file without one complete line (torn header) is simply rewritten.
   const Existing old = append && fs::exists(path_, ec) ? read_existing(path_) : Existing{};
   const bool resume = old.complete_bytes > 0;

@@ -10,6 +10,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/hdf5.hpp"
+#include "fretbem/core/text_file.hpp"
 #include "fretbem/io/result_metadata.hpp"
 
 namespace fretbem::io {
@@ -217,9 +218,7 @@ Hdf5Writer::Hdf5Writer(const fs::path& dir, const std::string& name)
     : impl_(std::make_unique<Impl>()) {
   hdf5::silence();
   impl_->path = dir / name;
-  std::error_code ec;
-  if (!dir.empty()) fs::create_directories(dir, ec);
-  if (ec) throw InputError(dir.string() + ": cannot create the output folder: " + ec.message());
+  create_output_folder(dir);
   const hid_t f = H5Fcreate(impl_->path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (f < 0) throw InputError(impl_->path.string() + ": cannot create: " + hdf5::last_error());
   impl_->file = FileH(f);

@@ -10,7 +10,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -18,9 +17,11 @@
 
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/file_lock.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/resources.hpp"
 #include "fretbem/core/stop_signal.hpp"
+#include "fretbem/core/text_file.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/study/subprocess.hpp"
 #include "fretbem/study/sweep_runner.hpp"
@@ -72,6 +73,26 @@ fs::path member_dir(double hurst, int seed) {
 }
 
 namespace {
+
+// What the aggregate needs of every member (issue 14, session 6: each of these ran to exit 0):
+// seeds and H change a rough surface only (a sphere gave identical members and a zero-width
+// interval), k_x at every step (`none`/`turning` left every k_x column nan), and a tangential
+// path (without one every bin was empty).
+void refuse_unaggregatable(const Scenario& sc, const fs::path& file) {
+  const std::string where = file.string() + ": ensemble: ";
+  if (sc.surface.type != SurfaceType::rough)
+    throw InputError(where +
+                     "surface.type must be rough (--hurst and --seeds vary a rough surface; "
+                     "every member of another surface would be the same run)");
+  if (sc.solver.stiffness != StiffnessMode::every)
+    throw InputError(where +
+                     "solver.stiffness must be every (the aggregate's k_x/k_x0 needs k_x "
+                     "at every step)");
+  if (sc.load.path == PathType::none)
+    throw InputError(where +
+                     "load.path = none has no tangential load to aggregate over "
+                     "F_x/(mu F_z); use ramp (as rough_monotone.ini)");
+}
 
 // The member's command line: the user's overrides, then the member's surface, single-threaded
 // FFTs first so that a user --set solver.threads still wins. Identical to what a user types
@@ -206,11 +227,12 @@ namespace {
 
 // DIR/members.csv: one row per member with exit code and wall time.
 void write_members(const fs::path& file, const std::vector<Member>& members) {
-  std::ofstream out(file);
+  std::ostringstream out;
   out << "hurst,seed,dir,exit_code,wall_seconds\n";
   for (const auto& m : members)
     out << format_number(m.hurst) << ',' << m.seed << ',' << m.dir.generic_string() << ','
         << m.exit_code << ',' << m.seconds << '\n';
+  write_file_atomically(file, out.str());
 }
 
 std::string fmt(double v) {
@@ -239,7 +261,7 @@ Curves load_curves(const EnsembleOptions& o, std::vector<Member>& members, doubl
 
 void write_aggregate(const EnsembleOptions& o, const std::vector<Member>& members,
                      const Curves& all) {
-  std::ofstream out(o.out / "aggregate.csv");
+  std::ostringstream out;
   out << "hurst,bin,f_lo,f_hi,f_centre,members,failed,stick_area_mean,stick_area_ci95,"
          "kx_mean,kx_ci95,Fx_stick_mean,Fx_stick_ci95\n";
   for (double H : o.hurst) {
@@ -267,6 +289,8 @@ void write_aggregate(const EnsembleOptions& o, const std::vector<Member>& member
           << fmt(s.half_width) << '\n';
     }
   }
+  // Checked: a full disk truncated aggregate.csv silently, with exit 0 (issue 14, session 6).
+  write_file_atomically(o.out / "aggregate.csv", out.str());
 }
 
 }  // namespace
@@ -274,7 +298,9 @@ void write_aggregate(const EnsembleOptions& o, const std::vector<Member>& member
 int run_ensemble(const EnsembleOptions& opt) {
   EnsembleOptions o = opt;
   if (o.hurst.empty()) throw InputError("ensemble: --hurst is required");
-  if (o.seeds < 1) throw InputError("--seeds: must be >= 1, got " + std::to_string(o.seeds));
+  if (o.seeds < 1 || o.seeds > kMaxSeeds)
+    throw InputError("--seeds: must be in [1, " + std::to_string(kMaxSeeds) + "], got " +
+                     std::to_string(o.seeds));
   if (o.jobs < 0) throw InputError("--jobs: must be >= 1, got " + std::to_string(o.jobs));
   if (o.bins < 1 || o.bins > kMaxBins)
     throw InputError("--bins: must be in [1, " + std::to_string(kMaxBins) + "], got " +
@@ -286,15 +312,24 @@ int run_ensemble(const EnsembleOptions& opt) {
   for (double H : o.hurst) {
     auto sets = o.sets;
     sets.push_back("surface.hurst=" + format_number(H));
-    mu = load_scenario(o.scenario, sets).material.mu;
+    const Scenario sc = load_scenario(o.scenario, sets);
+    refuse_unaggregatable(sc, o.scenario);
+    mu = sc.material.mu;
   }
   if (o.out.empty()) o.out = fs::path("out") / ("ensemble_" + o.scenario.stem().string());
+  create_output_folder(o.out);
+  // One ensemble per folder at a time: a second one removed the first's member logs and
+  // overwrote its aggregate (members.csv did not exist yet when both started).
+  const auto lock = FileLock::try_lock(o.out / ".fretbem.lock");
+  if (!lock)
+    throw InputError(o.out.string() +
+                     ": another fretbem ensemble is writing into this folder right now; wait "
+                     "for it to end, or choose another --out");
   std::error_code ec;
   if (!o.overwrite && fs::exists(o.out / "members.csv", ec))
     throw InputError(o.out.string() +
                      ": holds the results of another ensemble (members.csv); "
                      "pass --overwrite to replace them, or choose another --out");
-  fs::create_directories(o.out);
   std::vector<Member> members;
   for (double H : o.hurst)
     for (int s = 1; s <= o.seeds; ++s) {

@@ -17,6 +17,13 @@ void check_b(double b) {
   if (!(b >= 0.0)) throw InputError("GW: b = d_min/lambda must be >= 0, got " + std::to_string(b));
 }
 
+// f = F_x/(mu F_z) of a stiffness ratio: up to full sliding (f = 1, zero stiffness). Beyond it
+// the fractal ratio was NaN and the flat one negative (issue 14, session 6).
+void check_f(double f) {
+  if (!(f >= 0.0 && f <= 1.0))
+    throw InputError("GW: F_x/(mu F_z) must be in [0, 1], got " + std::to_string(f));
+}
+
 }  // namespace
 
 double stick_area_ratio(double b) {
@@ -48,10 +55,13 @@ double b_of_force_ratio(double f) {
 }
 
 double stiffness_ratio_flat(double f) {
-  return 1.0 - f;
+  return check_f(f), 1.0 - f;
 }
 
 double stiffness_ratio_fractal(double f, double hurst) {
+  check_f(f);
+  if (!(hurst > 0.0 && hurst <= 1.0))
+    throw InputError("GW: the Hurst exponent must be in (0, 1], got " + std::to_string(hurst));
   return std::pow(1.0 - f, 1.0 / (1.0 + hurst));
 }
 

@@ -6,6 +6,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/stop_signal.hpp"
+#include "fretbem/core/text_file.hpp"
 #include "fretbem/history/resolution.hpp"
 #include "fretbem/study/mpi_queue.hpp"
 #include "fretbem/study/sweep_aggregate.hpp"
@@ -84,6 +85,17 @@ void report_grids(const SweepSpec& spec) {
                  under, kMinRingCells);
 }
 
+// --list, --aggregate or --member K.
+int one_process_command(const SweepCommand& cmd, const SweepSpec& spec) {
+  if (cmd.list) return print_member_commands(cmd, spec), 0;
+  if (cmd.aggregate) return aggregate(spec, cmd.options.quiet);
+  create_output_folder(spec.out);
+  install_stop_signal_handlers();
+  auto queue = make_local_queue(one_member(spec, cmd.member));
+  if (!run_sweep_members(spec, *queue, cmd.options)) return kExitStopped;
+  return member_complete(spec, std::size_t(cmd.member)) ? 0 : kExitFailed;
+}
+
 }  // namespace
 
 int run_sweep_command(const SweepCommand& c) {
@@ -93,15 +105,15 @@ int run_sweep_command(const SweepCommand& c) {
     throw InputError("sweep: --list, --member and --aggregate exclude each other");
   if (cmd.options.binary.empty()) cmd.options.binary = fs::read_symlink("/proc/self/exe");
   const SweepSpec spec = load_sweep_spec(cmd.study, cmd.sets, cmd.out);
-  if (cmd.list) return print_member_commands(cmd, spec), 0;
-  if (cmd.aggregate) return aggregate(spec, cmd.options.quiet);
-  fs::create_directories(spec.out);
-  install_stop_signal_handlers();
-  if (cmd.member >= 0) {
-    auto queue = make_local_queue(one_member(spec, cmd.member));
-    if (!run_sweep_members(spec, *queue, cmd.options)) return kExitStopped;
-    return member_complete(spec, std::size_t(cmd.member)) ? 0 : kExitFailed;
+  if (cmd.list || cmd.aggregate || cmd.member >= 0) {
+    // One process's work: under mpirun only rank 0 does it (with -np 2, both ranks ran the
+    // same --member into one folder and one of them failed on the other's lock).
+    if (!mpi_launched()) return one_process_command(cmd, spec);
+    MpiSession mpi;
+    return mpi.rank() == 0 ? one_process_command(cmd, spec) : 0;
   }
+  create_output_folder(spec.out);
+  install_stop_signal_handlers();
   if (!mpi_launched()) {
     if (!cmd.options.quiet) report_grids(spec);
     auto queue = make_local_queue(pending_members(spec));

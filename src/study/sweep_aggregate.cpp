@@ -4,9 +4,11 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/text_file.hpp"
 #include "fretbem/study/sweep_runner.hpp"
 
 namespace fretbem {
@@ -92,10 +94,9 @@ SweepTally write_sweep_csv(const SweepSpec& spec) {
       if (std::find(columns.begin(), columns.end(), name) == columns.end()) columns.push_back(name);
     rows.push_back(std::move(r));
   }
-  fs::create_directories(spec.out);
-  const fs::path tmp = spec.out / "sweep.csv.tmp";
+  create_output_folder(spec.out);
   {
-    std::ofstream out(tmp);
+    std::ostringstream out;
     out << "member,dir";
     for (const auto& a : spec.axes) out << ',' << a.key;
     out << ",status,exit_code,seconds,error,grid_n,ring_cells_predicted,resolution";
@@ -116,8 +117,9 @@ SweepTally write_sweep_csv(const SweepSpec& spec) {
       for (const auto& c : columns) out << ',' << (by_name.count(c) ? by_name[c] : "");
       out << '\n';
     }
+    // A full disk must not replace a good sweep.csv by a torn one (it did, with exit 0).
+    write_file_atomically(spec.out / "sweep.csv", out.str());
   }
-  fs::rename(tmp, spec.out / "sweep.csv");
   return tally;
 }
 

@@ -5,11 +5,14 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <thread>
 
+#include "fretbem/core/file_lock.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/resources.hpp"
 #include "fretbem/core/stop_signal.hpp"
+#include "fretbem/core/text_file.hpp"
 #include "fretbem/study/subprocess.hpp"
 
 namespace fretbem {
@@ -24,29 +27,56 @@ constexpr const char* kStatusFile = "sweep_member.txt";
 constexpr const char* kInterrupted = "interrupted (study stopped)";
 constexpr const char* kRunning = "running (or killed while running)";
 
+// A status file is either whole or absent (a failed write, e.g. a full disk, throws).
 void write_status(const fs::path& dir, const MemberStatus& s) {
-  const fs::path tmp = dir / (std::string(kStatusFile) + ".tmp");
-  {
-    std::ofstream out(tmp);
-    out << "exit_code=" << s.exit_code << "\nseconds=" << format_number(s.seconds)
-        << "\nerror=" << s.error << '\n';
-    for (const auto& set : s.sets) out << "set=" << set << '\n';
-  }
-  fs::rename(tmp, dir / kStatusFile);  // a status file is either whole or absent
+  std::ostringstream out;
+  out << "exit_code=" << s.exit_code << "\nseconds=" << format_number(s.seconds)
+      << "\nerror=" << s.error << '\n';
+  for (const auto& set : s.sets) out << "set=" << set << '\n';
+  write_file_atomically(dir / kStatusFile, out.str());
 }
 
 struct Running {
   std::size_t index = 0;
   std::chrono::steady_clock::time_point start;
+  std::optional<FileLock> lock;  // the member is this process's until it ends
 };
+
+// A member's own `fretbem run` holds DIR/.fretbem.lock (io/output_lock.hpp) while it runs; one
+// orphaned by a study killed outright runs on after the study's member lock is gone.
+bool run_still_active(const fs::path& member_dir) {
+  std::error_code ec;
+  const fs::path lock = member_dir / ".fretbem.lock";
+  return fs::exists(lock, ec) && !FileLock::try_lock(lock);
+}
 
 class Runner {
  public:
   Runner(const SweepSpec& spec, const SweepOptions& opt) : spec_(spec), opt_(opt) {}
 
-  // An interrupted member continues from its checkpoint; any other starts afresh.
+  // An interrupted member continues from its checkpoint; any other starts afresh. A member
+  // another process runs right now (a second `fretbem sweep` of the same study, two MPI ranks
+  // given the same --member) is left to it: before its lock, a second study emptied the
+  // member's folder under the running member and overwrote its status and log (issue 14,
+  // session 6).
   void start(std::size_t k) {
+    auto lock = FileLock::try_lock(member_lock_file(spec_, k));
+    if (!lock) {
+      std::fprintf(stderr,
+                   "%s: member %zu (%s) is being run by another fretbem process; not "
+                   "started here\n",
+                   opt_.label.c_str(), k, spec_.member_dir(k).c_str());
+      return;
+    }
+    if (member_complete(spec_, k)) return;  // the other process finished it meanwhile
     const fs::path dir = spec_.out / spec_.member_dir(k);
+    if (run_still_active(dir)) {
+      std::fprintf(stderr,
+                   "%s: member %zu (%s): a fretbem run is still writing into it (left "
+                   "over from a study that was killed?); not started here\n",
+                   opt_.label.c_str(), k, spec_.member_dir(k).c_str());
+      return;
+    }
     const bool resume = member_resumable(spec_, k);
     if (!resume) {
       fs::remove_all(dir);  // stale outputs of a failed attempt
@@ -60,7 +90,7 @@ class Runner {
                             : member_run_command(spec_, k, opt_.binary);
     const pid_t pid = spawn_logged(cmd, dir / "log.txt");
     if (pid < 0) return finish(k, 127, 0, "could not start " + opt_.binary.string());
-    running_[pid] = {k, std::chrono::steady_clock::now()};
+    running_[pid] = {k, std::chrono::steady_clock::now(), std::move(lock)};
   }
 
   // Collects the members that ended; true when any did.
@@ -72,8 +102,11 @@ class Runner {
         ++it;
         continue;
       }
-      const std::size_t k = it->second.index;
-      const double s = seconds_since(it->second.start);
+      // The member lock goes with `done`, after its status is written: released before, another
+      // study took the member as still running and resumed the finished run.
+      const Running done = std::move(it->second);
+      const std::size_t k = done.index;
+      const double s = seconds_since(done.start);
       it = running_.erase(it);
       const fs::path log = spec_.out / spec_.member_dir(k) / "log.txt";
       // Ctrl-C reaches the members too: one that died of it while we stop was interrupted.
@@ -84,11 +117,22 @@ class Runner {
     return any;
   }
 
-  // SIGTERM to every running member, then their exits, each recorded as interrupted.
+  // SIGTERM to every running member, then their exits, each recorded as interrupted unless
+  // it had just finished (exit 0: recorded as finished, not "interrupted" beside exit 0).
   void stop_all() {
     for (const auto& [pid, r] : running_) kill(pid, SIGTERM);
-    for (const auto& [pid, r] : running_)
-      finish(r.index, wait_child(pid), seconds_since(r.start), kInterrupted);
+    for (const auto& [pid, r] : running_) {
+      const int code = wait_child(pid);
+      finish(r.index, code, seconds_since(r.start), code == 0 ? "" : kInterrupted);
+    }
+    running_.clear();
+  }
+
+  // After a failure of the study itself (its status files cannot be written): the members are
+  // ended without further records, so that none runs on unobserved.
+  void abandon_all() noexcept {
+    for (const auto& [pid, r] : running_) kill(pid, SIGTERM);
+    for (const auto& [pid, r] : running_) wait_child(pid);
     running_.clear();
   }
 
@@ -119,6 +163,31 @@ class Runner {
   const SweepOptions& opt_;
   std::map<pid_t, Running> running_;
 };
+
+// The polling loop of run_sweep_members.
+bool run_members(Runner& runner, MemberQueue& queue, int jobs) {
+  bool exhausted = false, stopped = false;
+  for (;;) {
+    if (stop_requested() && !stopped) {
+      stopped = true;
+      runner.stop_all();
+      if (!exhausted) queue.next(true), exhausted = true;  // tell rank 0 (MPI) we are done
+    }
+    while (!stopped && !exhausted && int(runner.running()) < jobs) {
+      const auto k = queue.next(false);
+      if (!k) {
+        exhausted = true;
+        break;
+      }
+      runner.start(*k);
+    }
+    const bool reaped = runner.reap();
+    queue.service(stopped);
+    if (runner.running() == 0 && (exhausted || stopped) && queue.drained()) break;
+    if (!reaped) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return !stopped;
+}
 
 }  // namespace
 
@@ -191,27 +260,19 @@ std::vector<std::string> member_run_command(const SweepSpec& spec, std::size_t k
 bool run_sweep_members(const SweepSpec& spec, MemberQueue& queue, const SweepOptions& opt) {
   const int jobs = opt.jobs > 0 ? opt.jobs : usable_cpus();
   Runner runner(spec, opt);
-  bool exhausted = false, stopped = false;
-  for (;;) {
-    if (stop_requested() && !stopped) {
-      stopped = true;
-      runner.stop_all();
-      if (!exhausted) queue.next(true), exhausted = true;  // tell rank 0 (MPI) we are done
-    }
-    while (!stopped && !exhausted && int(runner.running()) < jobs) {
-      const auto k = queue.next(false);
-      if (!k) {
-        exhausted = true;
-        break;
-      }
-      runner.start(*k);
-    }
-    const bool reaped = runner.reap();
-    queue.service(stopped);
-    if (runner.running() == 0 && (exhausted || stopped) && queue.drained()) break;
-    if (!reaped) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  try {
+    return run_members(runner, queue, jobs);
+  } catch (...) {
+    runner.abandon_all();
+    throw;
   }
-  return !stopped;
+}
+
+fs::path member_lock_file(const SweepSpec& spec, std::size_t k) {
+  std::string name = ".";  // appended, not "." + ...: GCC 12 -Wrestrict false positive
+  name += spec.member_dir(k).string();
+  name += ".lock";
+  return spec.out / name;
 }
 
 }  // namespace fretbem

@@ -79,6 +79,9 @@ struct StudyFile {
 };
 
 StudyFile read_study_file(const fs::path& file) {
+  std::error_code ec;
+  if (fs::exists(file, ec) && !fs::is_regular_file(file, ec))
+    throw InputError(file.string() + ": not a study file (a folder or a device)");
   std::ifstream in(file);
   if (!in) throw InputError(file.string() + ": cannot read the study file");
   StudyFile f;
@@ -86,6 +89,8 @@ StudyFile read_study_file(const fs::path& file) {
   int line_no = 0;
   for (std::string raw; std::getline(in, raw);) {
     ++line_no;
+    // A UTF-8 byte-order mark (Windows editors) is not part of the first line, as in scenarios.
+    if (line_no == 1 && raw.rfind("\xEF\xBB\xBF", 0) == 0) raw.erase(0, 3);
     const std::string line = trim(strip_comment(raw));
     const std::string where = file.string() + ":" + std::to_string(line_no);
     if (line.empty()) continue;
@@ -158,6 +163,22 @@ void refuse_duplicates(const SweepSpec& s) {
   }
 }
 
+// Counted before the product is built: two ranges of 10^6 values asked for 10^12 members, and
+// the study grew past 400 MB in two minutes before anything ran (issue 14, session 6).
+void refuse_too_many_members(const SweepSpec& s) {
+  double count = s.zip ? double(s.axes.front().values.size()) : 1.0;
+  std::string sizes;
+  for (const auto& a : s.axes) {
+    if (!s.zip) count *= double(a.values.size());
+    sizes += (sizes.empty() ? "" : " x ") + std::to_string(a.values.size());
+  }
+  if (count > kMaxSweepMembers)
+    throw InputError(s.study_file.string() + ": the study has " + sizes + " = " +
+                     format_number(count) + " members, more than " +
+                     format_number(kMaxSweepMembers) +
+                     ": split it into several studies or use combine = zip");
+}
+
 // [study] max_grid_n: a whole number of cells per side, or absent (0: no refinement).
 int read_max_grid_n(const fs::path& file, const std::map<std::string, std::string>& study) {
   if (!study.count("max_grid_n")) return 0;
@@ -209,9 +230,13 @@ SweepSpec load_sweep_spec(const fs::path& file, const std::vector<std::string>& 
   if (!f.study.count("scenario")) throw InputError(file.string() + ": no study.scenario given");
   s.scenario = fs::absolute(file.parent_path() / f.study.at("scenario")).lexically_normal();
   std::error_code ec;  // a name too long for the filesystem is bad input too, not a crash
-  if (!fs::is_regular_file(s.scenario, ec))
-    throw InputError(file.string() + ": study.scenario " + s.scenario.string() + " not found" +
+  if (!fs::is_regular_file(s.scenario, ec)) {
+    std::error_code ec2;
+    const bool exists = !ec && fs::exists(s.scenario, ec2);
+    throw InputError(file.string() + ": study.scenario " + s.scenario.string() +
+                     (exists ? " is not a file" : " not found") +
                      (ec ? " (" + ec.message() + ")" : ""));
+  }
   const std::string mode = f.study.count("combine") ? f.study.at("combine") : "product";
   if (mode != "product" && mode != "zip")
     throw InputError(file.string() + ": study.combine = " + mode + " (product or zip)");
@@ -230,6 +255,7 @@ SweepSpec load_sweep_spec(const fs::path& file, const std::vector<std::string>& 
                        s.axes.front().key + " has " + std::to_string(s.axes.front().values.size()) +
                        " and " + a.key + " has " + std::to_string(a.values.size()));
   s.max_grid_n = read_max_grid_n(file, f.study);
+  refuse_too_many_members(s);
   s.members = combine(s.axes, s.zip);
   refuse_duplicates(s);
   // Each member's scenario is read twice when the study refines its grid: the second time

@@ -288,9 +288,12 @@ std::vector<double> parse_text_row(const std::filesystem::path& file, std::strin
     const std::string_view num = tok.starts_with('+') ? tok.substr(1) : tok;
     double v = 0;
     const auto r = std::from_chars(num.data(), num.data() + num.size(), v);
+    // The token is cut short (a comma-separated row is one token) and the separator named:
+    // the whole row was quoted before, with no hint why it is not a number.
     if (r.ec != std::errc() || r.ptr != num.data() + num.size())
       file_error(file, "line " + std::to_string(lineno) + ": non-numeric value '" +
-                           std::string(tok) + "'");
+                           std::string(tok.substr(0, 40)) + (tok.size() > 40 ? "..." : "") +
+                           "' (text height maps separate values by white space)");
     if (!std::isfinite(v))
       file_error(file, "line " + std::to_string(lineno) + ": NaN or Inf value");
     row.push_back(v);
@@ -305,6 +308,8 @@ Field load_text(const std::filesystem::path& file) {
   std::string line;
   int first_line = 0;
   for (int lineno = 1; std::getline(in, line); ++lineno) {
+    // A UTF-8 byte-order mark (Windows editors) is not a height, as in scenarios and tables.
+    if (lineno == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     auto row = parse_text_row(file, std::string_view(line).substr(0, line.find('#')), lineno);
     if (row.empty()) continue;
     if (rows.empty()) first_line = lineno;

@@ -6,6 +6,9 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
+
+#include "fretbem/core/file_lock.hpp"
 
 namespace fretbem {
 
@@ -14,14 +17,13 @@ class OutputLock {
   /// Creates DIR if needed and locks it; InputError naming DIR when another process holds
   /// the lock or the folder cannot be created.
   explicit OutputLock(const std::filesystem::path& dir);
-  ~OutputLock();
   OutputLock(const OutputLock&) = delete;
   OutputLock& operator=(const OutputLock&) = delete;
 
   static constexpr const char* file_name = ".fretbem.lock";
 
  private:
-  int fd_ = -1;
+  std::optional<FileLock> lock_;
 };
 
 }  // namespace fretbem

@@ -105,6 +105,11 @@ struct OutputSpec {
   int checkpoint_every = 0;
 };
 
+/// wear.rtol's range, and wear.atol's relative to the unworn indentation (issue 14, session 6):
+/// past 0.1 the error control no longer holds the worn depth (rtol or atol/delta0 = 1 left it
+/// 3.5 % off, 1e300 3.8 times, with exit 0); below 1e-14 ARKODE's steps fail (1e-300, 1e-30).
+inline constexpr double kMinWearRelTolerance = 1e-14, kMaxWearRelTolerance = 0.1;
+
 struct WearSpec {
   WearLaw law = WearLaw::none;
   double coefficient = 0.0;  ///< Archard k (1/Pa) or energy alpha (m^3/J = 1/Pa)

@@ -25,6 +25,9 @@ struct EnsembleOptions {
 /// Largest --bins: an aggregate row per bin and H; 10^4 bins already resolve F_x/(mu F_z)
 /// far below any member's load step (10^8 bins wrote a 17 GB file, issue 14 item 9).
 constexpr int kMaxBins = 10000;
+/// Largest --seeds (surface.seed = 1..seeds): --seeds 2147483647 looped forever (the seed
+/// counter overflowed) while the member list grew.
+constexpr int kMaxSeeds = 100000;
 
 /// "0.1,0.3" -> {0.1, 0.3}; InputError naming --hurst on a bad list or a repeated value.
 std::vector<double> parse_hurst_list(const std::string& list);

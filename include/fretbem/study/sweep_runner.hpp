@@ -41,6 +41,8 @@ bool member_stopped(const MemberStatus& status);
 bool member_resumable(const SweepSpec& spec, std::size_t k);
 /// Finished with exit 0, with the overrides the study now asks for, outputs present.
 bool member_complete(const SweepSpec& spec, std::size_t k);
+/// DIR/.member_K.lock: held by the study process that runs member K, for the member's life.
+std::filesystem::path member_lock_file(const SweepSpec& spec, std::size_t k);
 
 /// The `fretbem run` command line of member k (what a user types to rerun it alone).
 std::vector<std::string> member_run_command(const SweepSpec& spec, std::size_t k,

@@ -21,6 +21,10 @@
 
 namespace fretbem {
 
+/// Most members a study may have (as many as one range may hold); more are refused before
+/// the product is formed.
+inline constexpr double kMaxSweepMembers = 1e6;
+
 struct SweepAxis {
   std::string key;                  ///< scenario key, section.name
   std::vector<std::string> values;  ///< as passed to --set (numbers in shortest round-trip form)
