@@ -41,6 +41,14 @@ void write_file_atomically(const fs::path& path, std::string_view text) {
     ::unlink(tmp.c_str());
     write_failed(path, err);
   }
+  // The renamed entry itself made durable (POSIX rename semantics); best effort: the rename
+  // is already atomic.
+  const fs::path dir = path.parent_path();
+  const int dfd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
 }
 
 void create_output_folder(const fs::path& dir) {

@@ -18,6 +18,7 @@
 #include "fretbem/core/fingerprint.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/hdf5.hpp"
+#include "fretbem/core/text_file.hpp"
 #include "fretbem/io/result_metadata.hpp"
 
 namespace fretbem {
@@ -151,7 +152,7 @@ void write_wear(hid_t f, const WearCheckpoint& w) {
 }
 
 // The whole checkpoint as the bytes of an HDF5 file, built with the in-memory (core) driver:
-// nothing touches the disk until write_durably, whose every system call is checked.
+// nothing touches the disk until write_file_atomically, whose every system call is checked.
 std::vector<char> checkpoint_image(const Model& model, const Stepper& stepper,
                                    const WearCheckpoint* wear) {
   hdf5::Plist fapl(H5Pcreate(H5P_FILE_ACCESS));
@@ -183,38 +184,6 @@ std::vector<char> checkpoint_image(const Model& model, const Stepper& stepper,
   if (H5Fget_file_image(f.get(), image.data(), image.size()) != size) write_failed("(image)");
   if (f.close() < 0) write_failed("(close)");
   return sealed(image);
-}
-
-[[noreturn]] void system_failed(const fs::path& path, const std::string& what, int err) {
-  throw std::runtime_error(path.string() + ": cannot " + what + ": " + std::strerror(err) +
-                           " (the previous checkpoint, if any, is kept)");
-}
-
-// Writes the bytes to `path`, fsyncs and closes it, checking each; removes it on failure.
-void write_durably(const fs::path& path, const std::vector<char>& bytes) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) system_failed(path, "create", errno);
-  std::size_t done = 0;
-  int err = 0;
-  while (done < bytes.size() && !err) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno != EINTR) err = errno;
-    if (n > 0) done += std::size_t(n);
-  }
-  if (!err && ::fsync(fd) != 0) err = errno;
-  if (::close(fd) != 0 && !err) err = errno;
-  if (err) {
-    ::unlink(path.c_str());
-    system_failed(path, "write", err);
-  }
-}
-
-// After the rename, the directory entry itself is made durable (POSIX rename semantics).
-void sync_directory(const fs::path& dir) {
-  const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) return;  // best effort: the rename is already atomic
-  ::fsync(fd);
-  ::close(fd);
 }
 
 // ---- reading (InputError naming the file and dataset on anything unexpected) ------------
@@ -430,16 +399,12 @@ void probe_in_child(const fs::path& path) {
 void save_checkpoint(const fs::path& dir, const Model& model, const Stepper& stepper,
                      const WearCheckpoint* wear) {
   hdf5::silence();
-  const fs::path tmp = dir / (std::string(kFile) + ".tmp");
-  write_durably(tmp, checkpoint_image(model, stepper, wear));
-  std::error_code ec;
-  fs::rename(tmp, dir / kFile, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error((dir / kFile).string() +
-                             ": cannot replace the checkpoint: " + ec.message());
+  const std::vector<char> bytes = checkpoint_image(model, stepper, wear);
+  try {  // DIR/checkpoint.h5.tmp, every call checked, then renamed over the previous one
+    write_file_atomically(dir / kFile, std::string_view(bytes.data(), bytes.size()));
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string(e.what()) + " (the previous checkpoint, if any, is kept)");
   }
-  sync_directory(dir);
 }
 
 void reseal_checkpoint(const fs::path& file) {
