@@ -632,13 +632,16 @@ void HalfSpace::add_sparse(const Eigen::ArrayXXd& kernel, double scale,
                            std::span<const std::int64_t> idx, std::span<const double> val,
                            Field& u) const {
   const int nx = grid_.nx, ny = grid_.ny, N1 = int(kernel.rows()), N0 = int(kernel.cols());
-  for (std::size_t n = 0; n < idx.size(); ++n) {
-    const int si = int(idx[n] % nx), sj = int(idx[n] / nx);
-    const double v = scale * val[n];
-    for (int j = 0; j < ny; ++j) {
+  // Row by row, all nodes per row: the row of u stays in L1 across the nodes (node by node,
+  // the whole of u streamed through the cache once per node). Each element still receives the
+  // nodes' terms in node order, so the sums are bit for bit the node-by-node ones.
+  for (int j = 0; j < ny; ++j) {
+    double* urow = u.data() + std::size_t(j) * nx;
+    for (std::size_t n = 0; n < idx.size(); ++n) {
+      const int si = int(idx[n] % nx), sj = int(idx[n] / nx);
+      const double v = scale * val[n];
       const int m0 = ((j - sj) % N0 + N0) % N0;
       const double* krow = kernel.data() + std::size_t(m0) * N1;
-      double* urow = u.data() + std::size_t(j) * nx;
       // Offsets i - si >= 0 map to m1 = i - si; negative ones wrap to N1 + i - si.
       for (int i = 0; i < si; ++i) urow[i] += v * krow[N1 + i - si];
       for (int i = si; i < nx; ++i) urow[i] += v * krow[i - si];
