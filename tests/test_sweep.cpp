@@ -95,6 +95,14 @@ TEST(SweepSpec, BadStudiesAreRefusedNamingTheProblem) {
       EXPECT_NE(std::string(e.what()).find(c.says), std::string::npos) << e.what();
     }
   }
+  // A scenario name longer than the filesystem allows (found by fuzz_sweep: the status query
+  // threw std::filesystem_error, exit 1) is refused like a missing one.
+  {
+    const fs::path f = d / "long.ini";
+    std::ofstream(f) << "[study]\nscenario = " << std::string(300, 'a') << ".ini\n[vary]\n"
+                     << "load.amplitude = 0.3\n";
+    EXPECT_THROW(load_sweep_spec(f), InputError);
+  }
   // From the command line: one line on stderr, exit 2.
   const Result r = shell(bin() + " sweep " + write_study(d, "surface.seed = 2, 2\n").string(), d);
   EXPECT_EQ(r.status, 2);

@@ -150,14 +150,17 @@ bool member_running(const MemberStatus& s) {
 bool member_resumable(const SweepSpec& spec, std::size_t k) {
   const fs::path dir = spec.out / spec.member_dir(k);
   const MemberStatus s = read_member_status(dir);
-  return member_stopped(s) && s.sets == spec.member_sets(k) && fs::exists(dir / "checkpoint.h5");
+  std::error_code ec;
+  return member_stopped(s) && s.sets == spec.member_sets(k) &&
+         fs::exists(dir / "checkpoint.h5", ec);
 }
 
 bool member_complete(const SweepSpec& spec, std::size_t k) {
   const fs::path dir = spec.out / spec.member_dir(k);
   const MemberStatus s = read_member_status(dir);
+  std::error_code ec;
   return s.present && s.exit_code == 0 && s.sets == spec.member_sets(k) &&
-         fs::exists(dir / "timeseries.csv");
+         fs::exists(dir / "timeseries.csv", ec);
 }
 
 std::vector<std::size_t> pending_members(const SweepSpec& spec) {

@@ -208,8 +208,10 @@ SweepSpec load_sweep_spec(const fs::path& file, const std::vector<std::string>& 
   s.study_file = file;
   if (!f.study.count("scenario")) throw InputError(file.string() + ": no study.scenario given");
   s.scenario = fs::absolute(file.parent_path() / f.study.at("scenario")).lexically_normal();
-  if (!fs::is_regular_file(s.scenario))
-    throw InputError(file.string() + ": study.scenario " + s.scenario.string() + " not found");
+  std::error_code ec;  // a name too long for the filesystem is bad input too, not a crash
+  if (!fs::is_regular_file(s.scenario, ec))
+    throw InputError(file.string() + ": study.scenario " + s.scenario.string() + " not found" +
+                     (ec ? " (" + ec.message() + ")" : ""));
   const std::string mode = f.study.count("combine") ? f.study.at("combine") : "product";
   if (mode != "product" && mode != "zip")
     throw InputError(file.string() + ": study.combine = " + mode + " (product or zip)");
