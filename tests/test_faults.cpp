@@ -24,6 +24,8 @@
 #include <thread>
 #include <vector>
 
+#include "fretbem/io/checkpoint.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -128,6 +130,7 @@ void replace_dataset(const fs::path& file, const std::string& name, const std::v
   ASSERT_GE(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), 0);
   H5Dclose(d), H5Sclose(s);
   ASSERT_GE(H5Fclose(f), 0);
+  fretbem::reseal_checkpoint(file);  // an edit on purpose: past the checksum, to the validation
 }
 
 void delete_link(const fs::path& file, const std::string& name) {
@@ -135,6 +138,7 @@ void delete_link(const fs::path& file, const std::string& name) {
   ASSERT_GE(f, 0);
   ASSERT_GE(H5Ldelete(f, name.c_str(), H5P_DEFAULT), 0);
   ASSERT_GE(H5Fclose(f), 0);
+  fretbem::reseal_checkpoint(file);
 }
 
 std::vector<double> read_vector(const fs::path& file, const std::string& name) {
@@ -374,9 +378,23 @@ TEST_F(Faults, CorruptedCheckpointsAreRefused) {
        [&](const fs::path& p) {
          std::ofstream(p, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
        }},
-      {"zeros", "not an HDF5 file",
+      {"zeros", "damaged checkpoint",
        [&](const fs::path& p) {
          std::ofstream(p, std::ios::binary) << std::string(bytes.size(), '\0');
+       }},
+      {"one flipped bit", "checksum mismatch",
+       [&](const fs::path& p) {
+         std::string b = bytes;
+         b[b.size() / 2] ^= 4;
+         std::ofstream(p, std::ios::binary) << b;
+       }},
+      // Written before the checksum block (bare HDF5), damaged so that HDF5 1.10.8 itself dies
+      // with SIGSEGV reading it (found by fuzz_checkpoint): refused, not a crash.
+      {"unsealed, HDF5 dies on it", "HDF5 died",
+       [&](const fs::path& p) {
+         fs::copy_file(
+             fs::path(FRETBEM_SOURCE_DIR) / "tests/bad_inputs/data/checkpoint_hdf5_segv.h5", p,
+             fs::copy_options::overwrite_existing);
        }},
       {"flipped bytes", "checkpoint.h5",
        [&](const fs::path& p) {
@@ -457,6 +475,10 @@ TEST_F(Faults, CheckpointWithOldFormatNameResumes) {
             0);
   delete_link(part / "checkpoint.h5", "checkpoint_format");
   replace_dataset(part / "checkpoint.h5", "format_version", {2.0}, {1});
+  // Written before the checksum block: the bare HDF5 file, read unchecked.
+  const std::string bytes = slurp(part / "checkpoint.h5");
+  std::ofstream(part / "checkpoint.h5", std::ios::binary | std::ios::trunc) << bytes.substr(512);
+  ASSERT_EQ(bytes.compare(512, 4, "\x89HDF"), 0);
   const Result r = run("run --resume " + part.string() + " --quiet", dir_);
   ASSERT_EQ(r.code, 0) << r.err;
   expect_same_rows(full(), part);

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "fretbem/io/checkpoint.hpp"
 #include "support/hertz.hpp"
 
 using namespace fretbem;
@@ -277,6 +278,7 @@ TEST(Resume, PredictorMemoryIsCheckpointed) {
     ASSERT_GE(f, 0);
     ASSERT_GE(H5Ldelete(f, "predictor", H5P_DEFAULT), 0);
     ASSERT_GE(H5Fclose(f), 0);
+    reseal_checkpoint(d / "old" / "checkpoint.h5");  // edited on purpose
   }
   ASSERT_EQ(sh(bin + " run --quiet --resume " + (d / "old").string()), 0);
   const auto ra = read_csv(d / "full" / "timeseries.csv"),
@@ -308,6 +310,7 @@ TEST(Resume, PredictorMemoryIsCheckpointed) {
     ASSERT_GE(H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v), 0);
     H5Dclose(ds), H5Sclose(sp);
     ASSERT_GE(H5Fclose(f), 0);
+    reseal_checkpoint(d / "bad" / "checkpoint.h5");
   }
   EXPECT_EQ(
       WEXITSTATUS(std::system(

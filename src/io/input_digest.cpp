@@ -5,35 +5,12 @@
 #include <cstring>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/fingerprint.hpp"
 
 namespace fretbem {
 
-namespace {
-
-// FNV-1a over 64-bit words: a fingerprint, not a cryptographic hash; word-wise so that a
-// path of 10^6 steps costs about a millisecond per checkpoint.
-class Fnv {
- public:
-  void add(double x) {
-    std::uint64_t w;
-    std::memcpy(&w, &x, sizeof w);
-    add_word(w);
-  }
-  void add_word(std::uint64_t w) { h_ = (h_ ^ w) * 1099511628211ull; }
-  std::string hex() const {
-    char buf[17];
-    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h_));
-    return buf;
-  }
-
- private:
-  std::uint64_t h_ = 14695981039346656037ull;
-};
-
-}  // namespace
-
 InputDigest input_digest(const Model& m) {
-  Fnv path, surface;
+  Fingerprint path, surface;
   for (const LoadStep& s : m.path.steps) {
     path.add(s.time);
     path.add(s.normal.value);

@@ -103,6 +103,11 @@ Field read_h5_dataset(const std::filesystem::path& file, hid_t d, const std::str
   hdf5::Type type(H5Dget_type(d));
   const H5T_class_t cls = H5Tget_class(type.get());
   if (cls != H5T_FLOAT && cls != H5T_INTEGER) file_error(file, where + "is not numeric");
+  // A damaged header can declare a 4 GiB "float" (found by fuzz_surface): HDF5 would allocate
+  // a conversion buffer of that size per element. No numeric type is wider than 16 bytes.
+  if (const std::size_t bytes = H5Tget_size(type.get()); bytes == 0 || bytes > 16)
+    file_error(file,
+               where + "has elements of " + std::to_string(bytes) + " bytes (not a number type)");
   require_sane_shape(file, dims[0], dims[1]);
   Field z(static_cast<Eigen::Index>(dims[1]), static_cast<Eigen::Index>(dims[0]));  // {ny, nx}
   if (H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, z.data()) < 0)

@@ -45,6 +45,12 @@ void save_checkpoint(const std::filesystem::path& dir, const Model& model, const
 /// against the scenario are validate_checkpoint's (resume_check.hpp).
 Checkpoint load_checkpoint(const std::filesystem::path& dir);
 
+/// A checkpoint file starts with a 512-byte block holding the fingerprint of the HDF5 file
+/// after it (core/fingerprint.hpp); load_checkpoint refuses a file whose bytes changed since
+/// they were written, before HDF5 parses them. reseal_checkpoint renews the block of a
+/// checkpoint edited on purpose (the fault tests do; so may a user repairing one by hand).
+void reseal_checkpoint(const std::filesystem::path& file);
+
 /// Observer that checkpoints every `every` steps (0: every 10 s of run time), at turning
 /// points (at most one per second of run time) and after the last step.
 class Checkpointer final : public Observer {
