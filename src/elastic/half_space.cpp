@@ -3,6 +3,7 @@
 #include <fftw3.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <initializer_list>
 #include <mutex>
@@ -50,6 +51,24 @@ struct Fftw<double> {
   }
   static void r2c(Plan p, double* in, Complex* out) { fftw_execute_dft_r2c(p, in, out); }
   static void c2r(Plan p, Complex* in, double* out) { fftw_execute_dft_c2r(p, in, out); }
+  // howmany 1-d transforms of length n: rows (stride 1, distance dist) or columns (stride
+  // `stride`, distance 1).
+  static Plan plan_rows_r2c(int n, int howmany, double* in, int idist, Complex* out, int odist,
+                            unsigned flags) {
+    return fftw_plan_many_dft_r2c(1, &n, howmany, in, nullptr, 1, idist, out, nullptr, 1, odist,
+                                  flags);
+  }
+  static Plan plan_rows_c2r(int n, int howmany, Complex* in, int idist, double* out, int odist,
+                            unsigned flags) {
+    return fftw_plan_many_dft_c2r(1, &n, howmany, in, nullptr, 1, idist, out, nullptr, 1, odist,
+                                  flags);
+  }
+  static Plan plan_columns(int n, int howmany, Complex* in, Complex* out, int stride, int sign,
+                           unsigned flags) {
+    return fftw_plan_many_dft(1, &n, howmany, in, nullptr, stride, 1, out, nullptr, stride, 1, sign,
+                              flags);
+  }
+  static void execute(Plan p) { fftw_execute(p); }
   static void destroy(Plan p) { fftw_destroy_plan(p); }
 };
 
@@ -70,6 +89,22 @@ struct Fftw<float> {
   }
   static void r2c(Plan p, float* in, Complex* out) { fftwf_execute_dft_r2c(p, in, out); }
   static void c2r(Plan p, Complex* in, float* out) { fftwf_execute_dft_c2r(p, in, out); }
+  static Plan plan_rows_r2c(int n, int howmany, float* in, int idist, Complex* out, int odist,
+                            unsigned flags) {
+    return fftwf_plan_many_dft_r2c(1, &n, howmany, in, nullptr, 1, idist, out, nullptr, 1, odist,
+                                   flags);
+  }
+  static Plan plan_rows_c2r(int n, int howmany, Complex* in, int idist, float* out, int odist,
+                            unsigned flags) {
+    return fftwf_plan_many_dft_c2r(1, &n, howmany, in, nullptr, 1, idist, out, nullptr, 1, odist,
+                                   flags);
+  }
+  static Plan plan_columns(int n, int howmany, Complex* in, Complex* out, int stride, int sign,
+                           unsigned flags) {
+    return fftwf_plan_many_dft(1, &n, howmany, in, nullptr, stride, 1, out, nullptr, stride, 1,
+                               sign, flags);
+  }
+  static void execute(Plan p) { fftwf_execute(p); }
   static void destroy(Plan p) { fftwf_destroy_plan(p); }
 };
 
@@ -129,26 +164,42 @@ double spectrum_scale(std::initializer_list<const std::vector<double>*> spectra)
 
 // Plans and buffers for real convolutions in precision Real on an n0 x n1 (row-major, n1
 // contiguous) array, with the kernel spectra. Fields enter and leave as double.
+//
+// Pruned convolution (free boundary): a field fills only the first `rows` rows of the padded
+// array (the rest is zero padding) and only those rows of the result are kept, so the row
+// transforms of the other rows are skipped: forward = `rows` row r2c + nc column DFTs, inverse
+// = nc column DFTs + `rows` row c2r, 3/4 of the 2-d transform pair's work when rows = n0/2
+// (measured at 2n = 512, FFTW_ESTIMATE: 0.73-0.79 of the 2-d pair's CPU; docs/performance.md).
+// Same transform, so the same result up to round-off.
 template <class Real>
 struct Engine {
   using Api = Fftw<Real>;
   using Complex = typename Api::Complex;
+  using Plan = typename Api::Plan;
   int n0, n1, nc;  // nc = n1/2 + 1 complex columns
+  int rows;        // rows a field occupies: n0 / 2 with zero padding, n0 periodic
   FftwBuffer<Real, Real> rin, rout;
   FftwBuffer<Real, Complex> c1, c2, c3;
-  typename Api::Plan forward = nullptr, inverse = nullptr;
+  FftwBuffer<Real, Complex> cz;  // row spectra of rin; rows >= `rows` stay zero
+  Plan forward = nullptr, inverse = nullptr;
+  // The pruned pair (null when rows == n0): rin -> cz rows, cz -> c1 columns, c1 columns in
+  // place, c1 -> rout rows.
+  Plan rows_forward = nullptr, columns_forward = nullptr, columns_inverse = nullptr,
+       rows_inverse = nullptr;
   Spectrum<Real> sz, sxx, syy, sxy;  // Cerruti spectra share one scale (they are mixed)
   Spectrum<Real> sz_inv;             // 1 / spectrum, built on first use
   // Normal-tangential cross kernels: odd, so their spectra are imaginary; v holds Im / n.
   Spectrum<Real> szx, szy;
 
-  Engine(int n0_, int n1_, FftOptions opt) : n0(n0_), n1(n1_), nc(n1_ / 2 + 1) {
+  Engine(int n0_, int n1_, int rows_, FftOptions opt)
+      : n0(n0_), n1(n1_), nc(n1_ / 2 + 1), rows(rows_) {
     const std::size_t nr = std::size_t(n0) * n1, ncx = std::size_t(n0) * nc;
     rin = fftw_alloc<Real, Real>(nr);
     rout = fftw_alloc<Real, Real>(nr);
     c1 = fftw_alloc<Real, Complex>(ncx);
     c2 = fftw_alloc<Real, Complex>(ncx);
     c3 = fftw_alloc<Real, Complex>(ncx);
+    if (pruned()) cz = fftw_alloc<Real, Complex>(ncx);
     std::fill(rin.get(), rin.get() + nr, Real(0));
     init_fftw_threads<Real>();
     std::lock_guard lock(planner_mutex());
@@ -157,13 +208,34 @@ struct Engine {
       plan_measured();
     else
       plan(FFTW_ESTIMATE);
-    if (!forward || !inverse) throw std::runtime_error("FFTW could not create a plan");
+    if (!planned()) throw std::runtime_error("FFTW could not create a plan");
     std::fill(rin.get(), rin.get() + nr, Real(0));  // MEASURE may have scribbled on it
+    if (pruned()) std::fill_n(&cz[0][0], 2 * ncx, Real(0));
+  }
+  bool pruned() const { return rows < n0; }
+  std::array<Plan*, 6> plans() {
+    return {&forward, &inverse, &rows_forward, &columns_forward, &columns_inverse, &rows_inverse};
+  }
+  bool planned() {
+    if (!forward || !inverse) return false;
+    return !pruned() || (rows_forward && columns_forward && columns_inverse && rows_inverse);
+  }
+  void destroy_plans() {
+    for (Plan* p : plans())
+      if (*p) Api::destroy(*p), *p = nullptr;
   }
   // r2c must preserve its input: the zero padding of rin is written once and relied on.
   void plan(unsigned rigour) {
     forward = Api::plan_r2c(n0, n1, rin.get(), c1.get(), rigour | FFTW_PRESERVE_INPUT);
     inverse = Api::plan_c2r(n0, n1, c1.get(), rout.get(), rigour | FFTW_DESTROY_INPUT);
+    if (!pruned()) return;
+    rows_forward =
+        Api::plan_rows_r2c(n1, rows, rin.get(), n1, cz.get(), nc, rigour | FFTW_PRESERVE_INPUT);
+    columns_forward = Api::plan_columns(n0, nc, cz.get(), c1.get(), nc, FFTW_FORWARD,
+                                        rigour | FFTW_PRESERVE_INPUT);
+    columns_inverse = Api::plan_columns(n0, nc, c1.get(), c1.get(), nc, FFTW_BACKWARD, rigour);
+    rows_inverse =
+        Api::plan_rows_c2r(n1, rows, c1.get(), nc, rout.get(), n1, rigour | FFTW_DESTROY_INPUT);
   }
   // MEASURE plans from the wisdom file when it has this size and thread count; measured (and
   // the file updated) otherwise. Same wisdom, same plan: results repeat bit for bit.
@@ -172,16 +244,14 @@ struct Engine {
         std::is_same_v<Real, float> ? FftPrecision::float32 : FftPrecision::float64;
     fft_wisdom::load(precision);
     plan(FFTW_MEASURE | FFTW_WISDOM_ONLY);
-    if (forward && inverse) return;
-    if (forward) Api::destroy(forward);
-    if (inverse) Api::destroy(inverse);
+    if (planned()) return;
+    destroy_plans();
     plan(FFTW_MEASURE);
     fft_wisdom::save(precision);
   }
   ~Engine() {
     std::lock_guard lock(planner_mutex());
-    if (forward) Api::destroy(forward);
-    if (inverse) Api::destroy(inverse);
+    destroy_plans();
   }
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
@@ -211,12 +281,29 @@ struct Engine {
   // `factor` multiplies the result as it is copied out (the analogy's E*/G*: no extra pass).
   void convolve(const Spectrum<Real>& s, const Field& in, Field& out, int nx, int ny,
                 double factor = 1.0) {
+    if (pruned()) return convolve_pruned(s, in, out, nx, ny, factor);
     load(in);
     r2c(c1.get());
     const std::size_t ns = std::size_t(n0) * nc;
     const Real* sv = s.v.data();
     for (std::size_t k = 0; k < ns; ++k) c1[k][0] *= sv[k], c1[k][1] *= sv[k];
     c2r(c1.get());
+    out.resize(nx, ny);
+    store(out, s.scale * factor);
+  }
+
+  // convolve() on a zero-padded field: the rows of zeros are not transformed, the rows of the
+  // result that store() drops are not computed.
+  void convolve_pruned(const Spectrum<Real>& s, const Field& in, Field& out, int nx, int ny,
+                       double factor) {
+    load(in);
+    Api::execute(rows_forward);
+    Api::execute(columns_forward);
+    const std::size_t ns = std::size_t(n0) * nc;
+    const Real* sv = s.v.data();
+    for (std::size_t k = 0; k < ns; ++k) c1[k][0] *= sv[k], c1[k][1] *= sv[k];
+    Api::execute(columns_inverse);
+    Api::execute(rows_inverse);
     out.resize(nx, ny);
     store(out, s.scale * factor);
   }
@@ -342,7 +429,9 @@ HalfSpace::HalfSpace(const Grid& grid, const Material& material, Coupling coupli
   FftOptions build = fft;
   if (single) build.measure = false;
   fft_ = std::make_unique<Fft>();
-  fft_->engine = std::make_unique<Engine<double>>(n0, n1, build);
+  // Zero padding (free boundary): a field fills the first ny of the n0 rows.
+  const int rows = grid.periodic ? n0 : grid.ny;
+  fft_->engine = std::make_unique<Engine<double>>(n0, n1, rows, build);
   ratio_ = material.E_star() / material.G_star();
   if (coupling == Coupling::coupled) cross_ = material.cross_compliance();
   if (grid.periodic)
@@ -369,7 +458,7 @@ HalfSpace::HalfSpace(const Grid& grid, const Material& material, Coupling coupli
   };
   if (single) {
     F.engine = std::unique_ptr<Engine<float>>();  // free the double buffers first
-    auto E = std::make_unique<Engine<float>>(n0, n1, fft);
+    auto E = std::make_unique<Engine<float>>(n0, n1, rows, fft);
     install(*E);
     F.engine = std::move(E);
   } else {
@@ -543,13 +632,16 @@ void HalfSpace::add_sparse(const Eigen::ArrayXXd& kernel, double scale,
                            std::span<const std::int64_t> idx, std::span<const double> val,
                            Field& u) const {
   const int nx = grid_.nx, ny = grid_.ny, N1 = int(kernel.rows()), N0 = int(kernel.cols());
-  for (std::size_t n = 0; n < idx.size(); ++n) {
-    const int si = int(idx[n] % nx), sj = int(idx[n] / nx);
-    const double v = scale * val[n];
-    for (int j = 0; j < ny; ++j) {
+  // Row by row, all nodes per row: the row of u stays in L1 across the nodes (node by node,
+  // the whole of u streamed through the cache once per node). Each element still receives the
+  // nodes' terms in node order, so the sums are bit for bit the node-by-node ones.
+  for (int j = 0; j < ny; ++j) {
+    double* urow = u.data() + std::size_t(j) * nx;
+    for (std::size_t n = 0; n < idx.size(); ++n) {
+      const int si = int(idx[n] % nx), sj = int(idx[n] / nx);
+      const double v = scale * val[n];
       const int m0 = ((j - sj) % N0 + N0) % N0;
       const double* krow = kernel.data() + std::size_t(m0) * N1;
-      double* urow = u.data() + std::size_t(j) * nx;
       // Offsets i - si >= 0 map to m1 = i - si; negative ones wrap to N1 + i - si.
       for (int i = 0; i < si; ++i) urow[i] += v * krow[N1 + i - si];
       for (int i = si; i < nx; ++i) urow[i] += v * krow[i - si];
