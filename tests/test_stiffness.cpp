@@ -15,6 +15,7 @@
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/surface/surface.hpp"
+#include "surface_test_util.hpp"
 
 using namespace fretbem;
 
@@ -49,6 +50,22 @@ std::vector<StepRecord> run_rows(const std::string& stiffness) {
   return rows;
 }
 
+// The contact both tests below load: a unit square at n = 64, E = 1, nu = 0.3, mu = 0.5, the
+// analogy operator along x and a tight normal solver.
+struct Contact64 {
+  Grid grid = Grid::square(64, 1.0);
+  Material mat = [] {
+    Material m;
+    m.body1 = {1.0, 0.3};
+    m.mu = 0.5;
+    return m;
+  }();
+  HalfSpace hs{grid, mat, Coupling::analogy};
+  NormalSolver ns{hs, NormalOptions{1e-13, 20000}};
+  TangentialOperator op{hs, Vec2(1, 0)};
+  Field rough(double hurst, int seed) const { return test_util::rough_fourier(grid, hurst, seed); }
+};
+
 }  // namespace
 
 // Rough and spherical contacts at several tangential loads: kx of the stick set left by the
@@ -56,31 +73,19 @@ std::vector<StepRecord> run_rows(const std::string& stiffness) {
 // preconditioned and plain solves agree to their tolerance. A rough surface (many patches)
 // and the sphere (one) test the range of stick sets.
 TEST(Stiffness, CiavarellaJaegerAndPreconditionedAgree) {
-  const int n = 64;
-  const Grid grid = Grid::square(n, 1.0);
-  Material mat;
-  mat.body1 = {1.0, 0.3};
-  mat.mu = 0.5;
-  HalfSpace hs(grid, mat, Coupling::analogy);
-  NormalSolver ns(hs, NormalOptions{1e-13, 20000});
-  TangentialOperator op(hs, Vec2(1, 0));
-  StiffnessSolver plain(op, 1e-11, 20000, Precondition::off);
-  StiffnessSolver pcg(op, 1e-11, 20000, Precondition::on);
-  RoughSpec spec;
-  spec.hurst = 0.7;
-  spec.rms_slope = 0.1;
-  spec.method = RoughMethod::fourier;
-  spec.seed = 3;
-  const double ratio = mat.E_star() / mat.G_star();
+  Contact64 c;
+  StiffnessSolver plain(c.op, 1e-11, 20000, Precondition::off);
+  StiffnessSolver pcg(c.op, 1e-11, 20000, Precondition::on);
+  const double ratio = c.mat.E_star() / c.mat.G_star();
   double worst_pcg = 0.0, worst_cj = 0.0;
-  for (const Field& z : {sphere_surface(grid, 1.0), rough_surface(grid, spec)}) {
+  for (const Field& z : {sphere_surface(c.grid, 1.0), c.rough(0.7, 3)}) {
     const double delta = 0.5 * (z.maxCoeff() - z.minCoeff()) * 0.1 + 1e-3;
     Field p;
-    const NormalResult nr = ns.solve_indentation(z, delta, p);
+    const NormalResult nr = c.ns.solve_indentation(z, delta, p);
     for (const double q : {0.2, 0.5, 0.8}) {
-      const ShortcutResult cj = ciavarella_jaeger_force(ns, z, p, nr.force, nr.indentation, mat.mu,
-                                                        ratio, q * mat.mu * nr.force);
-      const StateField st = classify(mat.mu * p, cj.traction);
+      const ShortcutResult cj = ciavarella_jaeger_force(c.ns, z, p, nr.force, nr.indentation,
+                                                        c.mat.mu, ratio, q * c.mat.mu * nr.force);
+      const StateField st = classify(c.mat.mu * p, cj.traction);
       const StiffnessResult a = plain.solve(st), b = pcg.solve(st);
       ASSERT_GT(a.kx, 0.0);
       EXPECT_TRUE(b.preconditioned);
@@ -90,7 +95,8 @@ TEST(Stiffness, CiavarellaJaegerAndPreconditionedAgree) {
       // error (1e-13 relative) amplified by 1e7.
       const double ds = cj.corrective.indentation, eps = 1e-7 * ds;
       Field pp = p, pm = p;
-      const double kz = (force_at(ns, z, ds + eps, pp) - force_at(ns, z, ds - eps, pm)) / (2 * eps);
+      const double kz =
+          (force_at(c.ns, z, ds + eps, pp) - force_at(c.ns, z, ds - eps, pm)) / (2 * eps);
       EXPECT_NEAR(a.kx * ratio / kz, 1.0, 1e-4) << "q = " << q;
       worst_pcg = std::max(worst_pcg, std::abs(b.kx / a.kx - 1));
       worst_cj = std::max(worst_cj, std::abs(a.kx * ratio / kz - 1));
@@ -100,6 +106,41 @@ TEST(Stiffness, CiavarellaJaegerAndPreconditionedAgree) {
   }
   std::printf("max rel difference pcg/plain %.2e, kx vs (G*/E*) k_z(Q*) %.2e\n", worst_pcg,
               worst_cj);
+}
+
+// The energy stop: k_x of a solve stopped on J's estimated error stays within the solver
+// tolerance of a tight solve (1e-13), cold and warm-started along a shrinking sequence of stick
+// sets, on the sphere (one patch) and a rough surface (many), at the tolerances users type.
+// The estimate aims at 0.1 tolerance; the test holds the contract (1 tolerance) and prints the
+// worst ratio.
+TEST(Stiffness, EnergyStopKeepsKxWithinTheTolerance) {
+  Contact64 c;
+  const double ratio = c.mat.E_star() / c.mat.G_star();
+  double worst = 0.0;
+  for (const Field& z : {sphere_surface(c.grid, 1.0), c.rough(0.5, 5)}) {
+    const double delta = 0.5 * (z.maxCoeff() - z.minCoeff()) * 0.1 + 1e-3;
+    Field p;
+    const NormalResult nr = c.ns.solve_indentation(z, delta, p);
+    for (const double tol : {1e-4, 1e-6, 1e-8}) {
+      StiffnessSolver warm(c.op, tol, 20000, Precondition::off);
+      for (const double q : {0.1, 0.3, 0.5, 0.7, 0.9}) {
+        const ShortcutResult cj = ciavarella_jaeger_force(c.ns, z, p, nr.force, nr.indentation,
+                                                          c.mat.mu, ratio, q * c.mat.mu * nr.force);
+        const StateField st = classify(c.mat.mu * p, cj.traction);
+        StiffnessSolver tight(c.op, 1e-13, 20000, Precondition::off), cold(c.op, tol, 20000);
+        const double ref = tight.solve(st).kx;
+        ASSERT_GT(ref, 0.0);
+        for (StiffnessSolver* s : {&warm, &cold}) {
+          const StiffnessResult r = s->solve(st);
+          const double err = std::abs(r.kx / ref - 1.0);
+          EXPECT_LE(err, tol) << "tol " << tol << ", q = " << q << ", " << r.iterations
+                              << " iterations, estimate " << r.kx_error;
+          worst = std::max(worst, err / tol);
+        }
+      }
+    }
+  }
+  std::printf("worst |kx / kx(1e-13) - 1| = %.3f tolerances\n", worst);
 }
 
 // every: kx on every row; turning: the same kx (to the stiffness tolerance) at step 0, the

@@ -16,6 +16,7 @@
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/surface/surface.hpp"
 #include "support/hertz.hpp"
+#include "surface_test_util.hpp"
 
 using namespace fretbem;
 
@@ -67,14 +68,8 @@ double rel_l2(const Field& a, const Field& b) {
   return std::sqrt((a - b).square().sum() / b.square().sum());
 }
 
-// Fourier-filtered rough surface of rms slope 0.1.
 Field rough(const Grid& grid, double hurst, std::uint64_t seed) {
-  RoughSpec spec;
-  spec.hurst = hurst;
-  spec.rms_slope = 0.1;
-  spec.method = RoughMethod::fourier;
-  spec.seed = seed;
-  return rough_surface(grid, spec);
+  return test_util::rough_fourier(grid, hurst, seed);
 }
 
 int count_stick(const Field& bound, const Field& mag, double eps) {
