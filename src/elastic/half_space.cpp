@@ -628,9 +628,20 @@ void HalfSpace::tangential_of_pressure(const Field& p, Field& ux, Field& uy) {
   convolutions_ += 2;
 }
 
-void HalfSpace::add_sparse(const Eigen::ArrayXXd& kernel, double scale,
-                           std::span<const std::int64_t> idx, std::span<const double> val,
-                           Field& u) const {
+// The direct summation streams the kernel at one multiply-add per element: compiled twice, for
+// AVX2 and the baseline, and picked at load time (GCC function multiversioning). AVX2 without
+// FMA does the same multiply and add per element as the baseline, so both give the same bits;
+// measured by bench_convolution per node: 89 -> 48 us at n = 512, 17 -> 10 us at 256. An
+// AVX-512 clone was no faster (the kernel rows come from L2/L3) and would fuse them (FMA).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define FRETBEM_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define FRETBEM_SIMD_CLONES
+#endif
+
+FRETBEM_SIMD_CLONES void HalfSpace::add_sparse(const Eigen::ArrayXXd& kernel, double scale,
+                                               std::span<const std::int64_t> idx,
+                                               std::span<const double> val, Field& u) const {
   const int nx = grid_.nx, ny = grid_.ny, N1 = int(kernel.rows()), N0 = int(kernel.cols());
   // Row by row, all nodes per row: the row of u stays in L1 across the nodes (node by node,
   // the whole of u streamed through the cache once per node). Each element still receives the
@@ -650,8 +661,12 @@ void HalfSpace::add_sparse(const Eigen::ArrayXXd& kernel, double scale,
 }
 
 std::size_t HalfSpace::sparse_limit() const {
+  // Below the break-even of one direct-summation node against one convolution, measured by
+  // bench_convolution with the AVX2 summation (one core, pruned ESTIMATE plans): 76 nodes at
+  // n = 128, 88 at 256, 159 at 512. The convolution's share of cache misses grows from 512 on,
+  // so the break-even grows faster than log n there; 0.28 n follows it with 10 % to spare.
   const double side = std::sqrt(double(grid_.nx) * double(grid_.ny));
-  return std::max<std::size_t>(24, std::size_t(0.5 * side));
+  return std::size_t(std::max({24.0, 0.28 * side, std::min(0.55 * side, 80.0)}));
 }
 
 void HalfSpace::normal_add_sparse(std::span<const std::int64_t> idx, std::span<const double> val,
