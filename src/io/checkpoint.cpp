@@ -428,7 +428,12 @@ Checkpoint load_checkpoint(const fs::path& dir) {
 }
 
 Checkpointer::Checkpointer(fs::path dir, const Stepper& stepper, int every)
-    : dir_(std::move(dir)), stepper_(stepper), every_(every) {}
+    : dir_(std::move(dir)), stepper_(stepper), every_(every) {
+  // The 10 s count from the start: a checkpoint of step 0 is work a short run (an ensemble
+  // member) never uses, and a long one is checkpointed 10 s later anyway.
+  last_ =
+      std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
 void Checkpointer::on_step(const StepRecord& rec, const InterfaceState&, const Model& model) {
   using namespace std::chrono;
