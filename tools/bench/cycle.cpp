@@ -8,10 +8,8 @@
 // and per convolution the solvers performed (the overhead of their element-wise passes).
 // FFT plans as `fretbem run` makes them (MEASURE with wisdom), one thread.
 //
-// The unit: one bare convolution is sampled before every timed cycle and after the last (a
-// batch of ~20 ms per sample), so the unit sees the same machine state as the cycles it divides;
-// each row uses the median of its own samples and reports their spread (min-max over median).
-// A single up-front measurement varied 0.996-1.503 ms between rows of one loaded run.
+// The unit (bare_convolution.hpp) is sampled before every timed cycle and after the last; each
+// row uses the median of its own samples and reports their spread (min-max over median).
 //
 // Usage: bench_cycle [--max-n N] [--repeats R] [--min-n N]
 #include <algorithm>
@@ -21,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "bare_convolution.hpp"
 #include "bench_util.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
@@ -43,46 +42,10 @@ struct CycleCost {
   long convolutions;
 };
 
-double cpu_now() {
-  return double(std::clock()) / CLOCKS_PER_SEC;
-}
-
-// One bare convolution (HalfSpace::normal) with the plans a run uses: CPU seconds per call,
-// sampled in batches of ~20 ms between the cycles being timed.
-class BareConvolution {
- public:
-  explicit BareConvolution(int n)
-      : hs_(Grid::square(n, 1.0), material(), Coupling::analogy,
-            FftOptions{1, true, FftPrecision::float64}),
-        p_(Field::Random(n, n)) {
-    const double cpu0 = cpu_now();
-    hs_.normal(p_, u_);  // warm-up
-    batch_ = std::max(1, int(0.02 / std::max(cpu_now() - cpu0, 1e-6)));
-  }
-  void sample() {
-    const double cpu0 = cpu_now();
-    for (int b = 0; b < batch_; ++b) hs_.normal(p_, u_);
-    samples_.push_back((cpu_now() - cpu0) / batch_);
-  }
-  /// The samples taken since the last call, and a fresh start.
-  std::vector<double> take() { return std::exchange(samples_, {}); }
-
- private:
-  static Material material() {
-    Material m;
-    m.body1 = {1.0, 0.3};
-    return m;
-  }
-  HalfSpace hs_;
-  Field p_, u_;
-  int batch_ = 1;
-  std::vector<double> samples_;
-};
-
 // Runs the first cycle (transient), then times each later one; the unit is sampled before
 // every timed cycle and after the last.
 std::vector<CycleCost> later_cycles(int n, const char* stiffness, const char* predictor, int cycles,
-                                    BareConvolution& unit) {
+                                    bench::BareConvolution& unit) {
   auto model = build_model(parse_scenario(scenario(n, stiffness, predictor, cycles), "bench", "."));
   Stepper stepper(*model);
   std::size_t k = 0;
@@ -91,10 +54,10 @@ std::vector<CycleCost> later_cycles(int n, const char* stiffness, const char* pr
     if (c > 1) unit.sample();
     const auto c0 = model->half_space->convolutions();
     const auto t0 = bench::Clock::now();
-    const double cpu0 = cpu_now();
+    const double cpu0 = bench::cpu_now();
     for (; k < stepper.steps() && model->path.steps[k].time <= c + 1e-12; ++k) stepper.advance(k);
     if (c > 1)
-      out.push_back({bench::seconds_since(t0), cpu_now() - cpu0,
+      out.push_back({bench::seconds_since(t0), bench::cpu_now() - cpu0,
                      long(model->half_space->convolutions() - c0)});
   }
   unit.sample();
@@ -123,7 +86,7 @@ int main(int argc, char** argv) {
       "solver convolution / conv |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int n = min_n; n <= max_n; n *= 2) {
-    BareConvolution unit(n);
+    bench::BareConvolution unit(n, true);
     std::vector<double> all;
     for (const char* predictor : {"none", "cycle"}) {
       const int cycles = predictor[0] == 'n' ? 2 : 3;
