@@ -18,6 +18,7 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/hdf5.hpp"
+#include "fretbem/core/resources.hpp"
 #include "fretbem/core/stop_signal.hpp"
 #include "fretbem/history/check_report.hpp"
 #include "fretbem/history/cost_estimate.hpp"
@@ -397,6 +398,7 @@ std::string describe(const std::filesystem::filesystem_error& e) {
 
 int main(int argc, char** argv) {
   fretbem::hdf5::no_library_close_at_exit();  // a full disk must end in a message, not SIGSEGV
+  fretbem::keep_freed_memory();
   try {
     const Args a = parse_args(argc, argv);
     if (a.command == "help") return std::fputs(kUsage, stdout), 0;

@@ -1,5 +1,8 @@
 #include "fretbem/core/resources.hpp"
 
+#if __has_include(<malloc.h>)
+#include <malloc.h>
+#endif
 #include <sched.h>
 #include <unistd.h>
 
@@ -90,6 +93,15 @@ double usable_memory_bytes() {
   const auto limit = cgroup_memory_limit();
   if (!limit) return phys;
   return phys > 0 ? std::min(phys, *limit) : *limit;
+}
+
+void keep_freed_memory() {
+#if defined(M_MMAP_THRESHOLD) && defined(M_TRIM_THRESHOLD)
+  // Fixed thresholds also turn off glibc's dynamic ones; 256 MiB keeps every field of an
+  // n = 2048 run on the heap, and trimming only above 512 MiB of free top.
+  mallopt(M_MMAP_THRESHOLD, 256 << 20);
+  mallopt(M_TRIM_THRESHOLD, 512 << 20);
+#endif
 }
 
 }  // namespace fretbem

@@ -27,4 +27,11 @@ std::optional<double> cgroup_memory_limit(const std::string& cgroup_root, const 
 /// neither is known.
 double usable_memory_bytes();
 
+/// Tells the allocator to keep freed memory for reuse instead of handing it back to the
+/// kernel: the solvers free and re-allocate grid-sized temporaries every step, and glibc's
+/// default trims and re-maps them, one page fault per 4 KiB on each reuse. Measured on the
+/// paper-ensemble member (n = 256, H = 0.9): 25 400 -> 10 900 minor faults, system CPU
+/// 0.19-0.29 -> 0.12-0.15 s, peak RSS unchanged. Process-wide: for executables, not libraries.
+void keep_freed_memory();
+
 }  // namespace fretbem
