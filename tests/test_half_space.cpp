@@ -434,6 +434,30 @@ TEST(HalfSpace, SparseAddEqualsConvolution) {
   }
 }
 
+// The update restricted to target nodes gives add_sparse's bits on the targets (the same terms
+// in the same order) and leaves every other node as it was; free and periodic grids, targets
+// in the first, last and interior rows, left and right of the nodes (both wrap-arounds).
+TEST(HalfSpace, SparseAddAtTargetsIsBitwiseTheFullOne) {
+  for (bool periodic : {false, true}) {
+    const Grid grid{20, 13, 1e-6, periodic};
+    HalfSpace hs(grid, steel_like(0.3), Coupling::analogy);
+    const std::vector<std::int64_t> idx = {0, grid.nx - 1, 47, 133, std::int64_t(grid.size()) - 1};
+    const std::vector<double> val = {1e5, -2e5, 3e5, 4e4, -5e5};
+    std::vector<std::int64_t> targets;
+    for (std::int64_t k = 0; k < std::int64_t(grid.size()); k += 3) targets.push_back(k);
+    const Field start = random_field(grid.nx, grid.ny, 7);
+    Field full = start, at = start;
+    hs.tangential_add_sparse(idx, val, full);
+    hs.tangential_add_sparse_at(idx, val, targets, at);
+    std::size_t t = 0;
+    for (std::int64_t k = 0; k < std::int64_t(grid.size()); ++k) {
+      const bool target = t < targets.size() && targets[t] == k;
+      EXPECT_EQ(at(k), target ? full(k) : start(k)) << periodic << " node " << k;
+      t += target;
+    }
+  }
+}
+
 // Lattice sum S3 = sum over m in Z^2 \ {0} of |m|^-3, summed to |m_i| <= M plus the integral of
 // the tail, 2 pi / M (error O(M^-2)).
 double lattice_sum3() {

@@ -27,6 +27,19 @@ void TangentialOperator::add_sparse(std::span<const std::int64_t> idx,
   for (int c = 0; c < ncomp_; ++c) hs_.tangential_add_sparse(idx, val[c], u[c]);
 }
 
+void TangentialOperator::add_sparse_at(std::span<const std::int64_t> idx,
+                                       const std::vector<std::vector<double>>& val,
+                                       const VecField& tau, std::span<const std::int64_t> targets,
+                                       VecField& u) {
+  if (idx.empty()) return;
+  // The same rule as add_sparse, so both take the same branch and give the same bits.
+  if (idx.size() > hs_.sparse_limit() || hs_.coupling() != Coupling::analogy) {
+    apply(tau, u);
+    return;
+  }
+  for (int c = 0; c < ncomp_; ++c) hs_.tangential_add_sparse_at(idx, val[c], targets, u[c]);
+}
+
 double TangentialOperator::self_compliance() const {
   return hs_.normal_self() * hs_.tangential_ratio();
 }

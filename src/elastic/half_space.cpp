@@ -660,6 +660,32 @@ FRETBEM_SIMD_CLONES void HalfSpace::add_sparse(const Eigen::ArrayXXd& kernel, do
   }
 }
 
+// Targets grouped by grid row (sorted indices are): per row and node one kernel row, read at
+// the targets' offsets. Each target receives the nodes' terms in node order, as in add_sparse.
+void HalfSpace::add_sparse_at(const Eigen::ArrayXXd& kernel, double scale,
+                              std::span<const std::int64_t> idx, std::span<const double> val,
+                              std::span<const std::int64_t> targets, Field& u) const {
+  const int nx = grid_.nx, N1 = int(kernel.rows()), N0 = int(kernel.cols());
+  double* ud = u.data();
+  for (std::size_t a = 0; a < targets.size();) {
+    const int j = int(targets[a] / nx);
+    std::size_t b = a;
+    while (b < targets.size() && targets[b] / nx == j) ++b;
+    for (std::size_t n = 0; n < idx.size(); ++n) {
+      const int si = int(idx[n] % nx), sj = int(idx[n] / nx);
+      const double v = scale * val[n];
+      const int m0 = ((j - sj) % N0 + N0) % N0;
+      const double* krow = kernel.data() + std::size_t(m0) * N1;
+      const std::int64_t base = std::int64_t(j) * nx + si;
+      for (std::size_t t = a; t < b; ++t) {
+        const int m1 = int(targets[t] - base);  // i - si, in (-nx, nx)
+        ud[targets[t]] += v * krow[m1 < 0 ? m1 + N1 : m1];
+      }
+    }
+    a = b;
+  }
+}
+
 std::size_t HalfSpace::sparse_limit() const {
   // Below the break-even of one direct-summation node against one convolution, measured by
   // bench_convolution with the AVX2 summation (one core, pruned ESTIMATE plans): 76 nodes at
@@ -677,6 +703,12 @@ void HalfSpace::normal_add_sparse(std::span<const std::int64_t> idx, std::span<c
 void HalfSpace::tangential_add_sparse(std::span<const std::int64_t> idx,
                                       std::span<const double> val, Field& u) const {
   add_sparse(kz_space_, ratio_, idx, val, u);
+}
+
+void HalfSpace::tangential_add_sparse_at(std::span<const std::int64_t> idx,
+                                         std::span<const double> val,
+                                         std::span<const std::int64_t> targets, Field& u) const {
+  add_sparse_at(kz_space_, ratio_, idx, val, targets, u);
 }
 
 }  // namespace fretbem

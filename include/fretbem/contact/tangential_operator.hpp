@@ -36,6 +36,11 @@ class TangentialOperator {
   /// a full product u = C tau when sparse updates are not available or not cheaper.
   void add_sparse(std::span<const std::int64_t> idx, const std::vector<std::vector<double>>& val,
                   const VecField& tau, VecField& u);
+  /// The same, but the sparse update reaches only the `targets` nodes (sorted grid indices;
+  /// elsewhere u keeps its old values): for images read only on the contact nodes. Bit for
+  /// bit add_sparse's values on the targets; the fallback product still sets all of u.
+  void add_sparse_at(std::span<const std::int64_t> idx, const std::vector<std::vector<double>>& val,
+                     const VecField& tau, std::span<const std::int64_t> targets, VecField& u);
   /// Diagonal compliance of one node (m/Pa): for Jacobi-type local updates.
   double self_compliance() const;
 
