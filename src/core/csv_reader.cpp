@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/text_file.hpp"
 
 namespace fretbem::csv {
 
@@ -65,7 +66,7 @@ std::vector<std::string> header_of(std::istream& in, const fs::path& file, long&
   std::string line;
   while (std::getline(in, line)) {
     ++line_no;
-    if (line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // UTF-8 BOM
+    if (line_no == 1) drop_utf8_bom(line);
     if (is_data_line(line)) return split_line(line);
   }
   throw InputError(file.string() + ": empty CSV file (no header row)");

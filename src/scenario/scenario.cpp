@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/text_file.hpp"
 #include "sections.hpp"
 
 namespace fretbem {
@@ -26,9 +27,7 @@ Scenario parse_scenario(const std::string& text, const std::string& name,
                         const std::filesystem::path& base_dir,
                         const std::vector<std::string>& overrides) {
   Reader r(name);
-  // A UTF-8 byte-order mark (some Windows editors write one) is not part of the first key.
-  const std::string_view bom = "\xEF\xBB\xBF";
-  read_file_entries(text.starts_with(bom) ? text.substr(bom.size()) : text, r);
+  read_file_entries(std::string(without_utf8_bom(text)), r);
   for (const auto& o : overrides) apply_override(o, r);
 
   Scenario s;

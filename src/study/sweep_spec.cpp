@@ -9,6 +9,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/text_file.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/study/member_grid.hpp"
 
@@ -89,8 +90,7 @@ StudyFile read_study_file(const fs::path& file) {
   int line_no = 0;
   for (std::string raw; std::getline(in, raw);) {
     ++line_no;
-    // A UTF-8 byte-order mark (Windows editors) is not part of the first line, as in scenarios.
-    if (line_no == 1 && raw.rfind("\xEF\xBB\xBF", 0) == 0) raw.erase(0, 3);
+    if (line_no == 1) drop_utf8_bom(raw);
     const std::string line = trim(strip_comment(raw));
     const std::string where = file.string() + ":" + std::to_string(line_no);
     if (line.empty()) continue;

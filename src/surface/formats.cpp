@@ -16,6 +16,7 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/hdf5.hpp"
+#include "fretbem/core/text_file.hpp"
 #include "npy.hpp"
 #include "zip_formats.hpp"
 
@@ -308,8 +309,7 @@ Field load_text(const std::filesystem::path& file) {
   std::string line;
   int first_line = 0;
   for (int lineno = 1; std::getline(in, line); ++lineno) {
-    // A UTF-8 byte-order mark (Windows editors) is not a height, as in scenarios and tables.
-    if (lineno == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+    if (lineno == 1) drop_utf8_bom(line);
     auto row = parse_text_row(file, std::string_view(line).substr(0, line.find('#')), lineno);
     if (row.empty()) continue;
     if (rows.empty()) first_line = lineno;

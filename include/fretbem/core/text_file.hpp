@@ -1,11 +1,24 @@
-// Small outputs (summaries, status files, XDMF descriptions, checkpoints) written so that a failure
-// never leaves a torn file in place of a good one.
+// Text-file chores: small outputs (summaries, status files, XDMF descriptions, checkpoints)
+// written so that a failure never leaves a torn file in place of a good one, and the UTF-8
+// byte-order mark some Windows editors put before the first line of an input.
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <string_view>
 
 namespace fretbem {
+
+/// `text` without a leading UTF-8 byte-order mark: it is not part of the first key, cell or
+/// height of an input file (scenarios, tables, studies, text height maps).
+inline std::string_view without_utf8_bom(std::string_view text) {
+  constexpr std::string_view bom = "\xEF\xBB\xBF";
+  return text.starts_with(bom) ? text.substr(bom.size()) : text;
+}
+/// The same in place, for a first line read with std::getline.
+inline void drop_utf8_bom(std::string& line) {
+  line.erase(0, line.size() - without_utf8_bom(line).size());
+}
 
 /// Writes `text` to PATH atomically: PATH.tmp is written, flushed and fsynced with every call
 /// checked, then renamed over PATH and the folder fsynced (checkpoints use it too). On any failure
