@@ -17,11 +17,11 @@
 
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
-#include "fretbem/core/file_lock.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/resources.hpp"
 #include "fretbem/core/stop_signal.hpp"
 #include "fretbem/core/text_file.hpp"
+#include "fretbem/io/output_lock.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/study/subprocess.hpp"
 #include "fretbem/study/sweep_runner.hpp"
@@ -317,14 +317,9 @@ int run_ensemble(const EnsembleOptions& opt) {
     mu = sc.material.mu;
   }
   if (o.out.empty()) o.out = fs::path("out") / ("ensemble_" + o.scenario.stem().string());
-  create_output_folder(o.out);
   // One ensemble per folder at a time: a second one removed the first's member logs and
   // overwrote its aggregate (members.csv did not exist yet when both started).
-  const auto lock = FileLock::try_lock(o.out / ".fretbem.lock");
-  if (!lock)
-    throw InputError(o.out.string() +
-                     ": another fretbem ensemble is writing into this folder right now; wait "
-                     "for it to end, or choose another --out");
+  const OutputLock lock(o.out, "ensemble");
   std::error_code ec;
   if (!o.overwrite && fs::exists(o.out / "members.csv", ec))
     throw InputError(o.out.string() +

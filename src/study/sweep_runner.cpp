@@ -13,6 +13,7 @@
 #include "fretbem/core/resources.hpp"
 #include "fretbem/core/stop_signal.hpp"
 #include "fretbem/core/text_file.hpp"
+#include "fretbem/io/output_lock.hpp"
 #include "fretbem/study/subprocess.hpp"
 
 namespace fretbem {
@@ -42,11 +43,11 @@ struct Running {
   std::optional<FileLock> lock;  // the member is this process's until it ends
 };
 
-// A member's own `fretbem run` holds DIR/.fretbem.lock (io/output_lock.hpp) while it runs; one
+// A member's own `fretbem run` holds its OutputLock (io/output_lock.hpp) while it runs; one
 // orphaned by a study killed outright runs on after the study's member lock is gone.
 bool run_still_active(const fs::path& member_dir) {
   std::error_code ec;
-  const fs::path lock = member_dir / ".fretbem.lock";
+  const fs::path lock = member_dir / OutputLock::file_name;
   return fs::exists(lock, ec) && !FileLock::try_lock(lock);
 }
 

@@ -15,8 +15,9 @@ namespace fretbem {
 class OutputLock {
  public:
   /// Creates DIR if needed and locks it; InputError naming DIR when another process holds
-  /// the lock or the folder cannot be created.
-  explicit OutputLock(const std::filesystem::path& dir);
+  /// the lock ("another fretbem <holder> is writing into this folder") or the folder cannot
+  /// be created. `holder`: what takes the folder, a run or an ensemble.
+  explicit OutputLock(const std::filesystem::path& dir, const char* holder = "run");
   OutputLock(const OutputLock&) = delete;
   OutputLock& operator=(const OutputLock&) = delete;
 
