@@ -66,13 +66,22 @@ std::vector<char> sealed(const std::vector<char>& image) {
 
 // Refuses a checkpoint whose bytes are not the ones its writer sealed; false for one written
 // before the sum block (not checked).
-bool verify_sum(const fs::path& path) {
+std::string read_bytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (!in.good() && !in.eof()) throw InputError(path.string() + ": cannot read the checkpoint");
+  return bytes;
+}
+
+bool has_sum_block(const std::string& bytes) {
+  return bytes.size() >= kSumBlock && bytes.compare(0, sizeof kSumMagic - 1, kSumMagic) == 0;
+}
+
+bool verify_sum(const fs::path& path) {
+  const std::string bytes = read_bytes(path);
   if (bytes.compare(0, 8, kHdf5Signature) == 0) return false;  // written before the block
   const std::string damaged = path.string() + ": damaged checkpoint (";
-  if (bytes.size() < kSumBlock || bytes.compare(0, sizeof kSumMagic - 1, kSumMagic) != 0)
+  if (!has_sum_block(bytes))
     throw InputError(damaged + "no checksum block; not written by fretbem, or overwritten)");
   const std::string want = sum_line(bytes.data() + kSumBlock, bytes.size() - kSumBlock);
   if (bytes.compare(0, want.size(), want) != 0)
@@ -408,10 +417,8 @@ void save_checkpoint(const fs::path& dir, const Model& model, const Stepper& ste
 }
 
 void reseal_checkpoint(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < kSumBlock || bytes.compare(0, sizeof kSumMagic - 1, kSumMagic) != 0)
-    throw InputError(file.string() + ": no checksum block to renew");
+  const std::string bytes = read_bytes(file);
+  if (!has_sum_block(bytes)) throw InputError(file.string() + ": no checksum block to renew");
   const std::string line = sum_line(bytes.data() + kSumBlock, bytes.size() - kSumBlock);
   std::ofstream out(file, std::ios::binary | std::ios::in | std::ios::out);
   out.write(line.data(), std::streamsize(line.size()));
@@ -428,22 +435,17 @@ Checkpoint load_checkpoint(const fs::path& dir) {
 }
 
 Checkpointer::Checkpointer(fs::path dir, const Stepper& stepper, int every)
-    : dir_(std::move(dir)), stepper_(stepper), every_(every) {
-  // The 10 s count from the start: a checkpoint of step 0 is work a short run (an ensemble
-  // member) never uses, and a long one is checkpointed 10 s later anyway.
-  last_ =
-      std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+    : dir_(std::move(dir)), stepper_(stepper), every_(every) {}
 
 void Checkpointer::on_step(const StepRecord& rec, const InterfaceState&, const Model& model) {
-  using namespace std::chrono;
-  const double now = duration<double>(steady_clock::now().time_since_epoch()).count();
+  const auto now = std::chrono::steady_clock::now();
+  const double since = std::chrono::duration<double>(now - last_).count();
   const bool last = std::size_t(rec.step) + 1 == model.path.steps.size();
-  const bool due = every_ > 0 ? (rec.step + 1) % every_ == 0 : now - last_ >= 10.0;
+  const bool due = every_ > 0 ? (rec.step + 1) % every_ == 0 : since >= 10.0;
   // Turning points are natural restart points, but a table that reverses every few rows
   // would checkpoint every step (issue 14 item 13: 10 002 checkpoints, 4.4x the run time):
   // at most one turning-point checkpoint per second.
-  const bool turning = rec.turning && now - last_ >= 1.0;
+  const bool turning = rec.turning && since >= 1.0;
   if (!(due || turning || last)) return;
   save_checkpoint(dir_, model, stepper_);
   last_ = now;

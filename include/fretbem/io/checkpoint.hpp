@@ -5,6 +5,7 @@
 // leaves the previous checkpoint intact (docs/reliability.md, "Fault tests").
 #pragma once
 
+#include <chrono>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -62,7 +63,9 @@ class Checkpointer final : public Observer {
   std::filesystem::path dir_;
   const Stepper& stepper_;
   int every_;
-  double last_ = 0.0;
+  /// The last checkpoint, or the start: the 10 s count starts with the run (a step-0
+  /// checkpoint is work a short run, an ensemble member, never uses).
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
 }  // namespace fretbem
