@@ -142,7 +142,7 @@ StiffnessResult StiffnessSolver::solve(const StateField& state) {
         const double r = (c == 0 ? 1.0 : 0.0) - u_[c](k);
         r_[c](k) = r, rr += r * r, psi_r += psi_[c](k) * r;
       }
-    for (const Eigen::Index k : nodes_) b_psi += psi_[0](k);
+    for (const Eigen::Index k : nodes_) b_psi += psi_[0](k);  // e_x . psi
     res.iterations = it;
     res.residual = std::sqrt(rr) / bnorm;
     // The energy value J = 2 b.psi - psi.C psi = b.psi + psi.r (b = e_x on S): its error

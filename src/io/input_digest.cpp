@@ -1,8 +1,5 @@
 #include "fretbem/io/input_digest.hpp"
 
-#include <cstdint>
-#include <cstdio>
-#include <cstring>
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/fingerprint.hpp"

@@ -100,8 +100,8 @@ class HalfSpace {
                                 std::span<const std::int64_t> targets, Field& u) const;
 
   /// Largest number of changed nodes for which the *_add_sparse updates are cheaper than one
-  /// convolution. The break-even measured by bench_convolution grows about linearly with the
-  /// side (~70 nodes at n = 128, ~140 at 256): half the side stays below it.
+  /// convolution: below bench_convolution's measured break-even (76, 88 and 159 nodes at
+  /// n = 128, 256 and 512 with the AVX2 summation); 70, 80 and 143 there.
   std::size_t sparse_limit() const;
 
   /// Normal self-compliance K_z(0,0) (m/Pa): the displacement of a cell under its own unit
