@@ -182,7 +182,7 @@ TEST(Scenario, OverridesWinAndAddKeys) {
   EXPECT_DOUBLE_EQ(s.grid.h, 2e-3 / 16);
   EXPECT_DOUBLE_EQ(s.material.mu, 0.25);
   EXPECT_TRUE(s.grid.periodic);
-  EXPECT_TRUE(s.solver.fft_measure);
+  EXPECT_EQ(s.solver.fft_plan, fretbem::FftPlanning::measure);
   EXPECT_EQ(s.solver.precondition, fretbem::Precondition::automatic);
   EXPECT_EQ(parse(kGood, {"solver.precondition=off"}).solver.precondition,
             fretbem::Precondition::off);

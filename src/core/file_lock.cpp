@@ -24,6 +24,17 @@ std::optional<FileLock> FileLock::try_lock(const std::filesystem::path& file) {
   throw InputError(file.string() + ": cannot lock: " + std::strerror(err));
 }
 
+std::optional<FileLock> FileLock::wait_lock(const std::filesystem::path& file) {
+  const int fd = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) return std::nullopt;
+  int rc;
+  while ((rc = ::flock(fd, LOCK_EX)) != 0 && errno == EINTR) {
+  }
+  if (rc == 0) return FileLock(fd);
+  ::close(fd);
+  return std::nullopt;
+}
+
 FileLock& FileLock::operator=(FileLock&& other) noexcept {
   std::swap(fd_, other.fd_);
   return *this;

@@ -43,6 +43,28 @@ fs::path file(FftPrecision p) {
   return {};
 }
 
+bool persistent(FftPrecision p) {
+  const fs::path f = file(p);
+  if (f.empty()) return false;
+  std::error_code ec;
+  const fs::path dir = f.has_parent_path() ? f.parent_path() : fs::path(".");
+  fs::create_directories(dir, ec);
+  return fs::is_directory(dir, ec) && ::access(dir.c_str(), W_OK) == 0;
+}
+
+std::optional<FileLock> lock(FftPrecision p) {
+  const fs::path f = file(p);
+  if (f.empty()) return std::nullopt;
+  std::error_code ec;
+  if (f.has_parent_path()) fs::create_directories(f.parent_path(), ec);
+  return FileLock::wait_lock(f.string() + ".lock");
+}
+
+void reload(FftPrecision p) {
+  const fs::path f = file(p);
+  if (!f.empty()) import_file(p, f);
+}
+
 void load(FftPrecision p) {
   static std::once_flag loaded[2];
   std::call_once(loaded[single(p)], [p] {

@@ -238,11 +238,18 @@ struct Engine {
         Api::plan_rows_c2r(n1, rows, c1.get(), nc, rout.get(), n1, rigour | FFTW_DESTROY_INPUT);
   }
   // MEASURE plans from the wisdom file when it has this size and thread count; measured (and
-  // the file updated) otherwise. Same wisdom, same plan: results repeat bit for bit.
+  // the file updated) otherwise. Same wisdom, same plan: results repeat bit for bit. Measuring
+  // holds the file's lock, and a process that waited for it plans from what the holder saved:
+  // one measured plan per size on a machine, whatever the timing of concurrent first runs.
   void plan_measured() {
     constexpr FftPrecision precision =
         std::is_same_v<Real, float> ? FftPrecision::float32 : FftPrecision::float64;
     fft_wisdom::load(precision);
+    plan(FFTW_MEASURE | FFTW_WISDOM_ONLY);
+    if (planned()) return;
+    destroy_plans();
+    const auto held = fft_wisdom::lock(precision);
+    fft_wisdom::reload(precision);
     plan(FFTW_MEASURE | FFTW_WISDOM_ONLY);
     if (planned()) return;
     destroy_plans();

@@ -7,6 +7,7 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/resources.hpp"
+#include "fretbem/elastic/fft_wisdom.hpp"
 #include "fretbem/history/cycle_predictor.hpp"
 #include "fretbem/history/preflight.hpp"
 
@@ -151,8 +152,10 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
   auto m = prepare_model(sc);
   FftOptions fft;
   fft.threads = sc.solver.threads > 0 ? sc.solver.threads : default_threads(sc.grid);
-  fft.measure = sc.solver.fft_measure;
   fft.precision = sc.solver.fft_precision;
+  fft.measure =
+      sc.solver.fft_plan == FftPlanning::measure ||
+      (sc.solver.fft_plan == FftPlanning::automatic && fft_wisdom::persistent(fft.precision));
   m->half_space = std::make_unique<HalfSpace>(sc.grid, sc.material, sc.solver.coupling, fft);
   // parse_scenario refuses these already; a Scenario built in code reaches this check.
   m->half_space->require_tolerance(sc.solver.tolerance, "solver.tolerance");

@@ -116,7 +116,8 @@ void write_solver(IniWriter& w, const SolverSpec& s) {
   w.put("stiffness", std::string(s.stiffness == StiffnessMode::every     ? "every"
                                  : s.stiffness == StiffnessMode::turning ? "turning"
                                                                          : "none"));
-  w.put("fft_plan", std::string(s.fft_measure ? "measure" : "estimate"));
+  static constexpr const char* kPlans[] = {"auto", "estimate", "measure"};
+  w.put("fft_plan", std::string(kPlans[int(s.fft_plan)]));
   w.put("fft_precision",
         std::string(s.fft_precision == FftPrecision::float32 ? "float" : "double"));
   w.put("monotone", std::string(s.shortcut ? "shortcut" : "incremental"));

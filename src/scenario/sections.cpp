@@ -259,8 +259,11 @@ void read_solver(const Reader& r, SolverSpec& s) {
     s.algorithm =
         static_cast<TangentialAlgorithm>(r.choice("solver.algorithm", {"projected", "partition"}));
   if (r.has("solver.stiffness")) s.stiffness = read_stiffness(r);
-  if (r.has("solver.fft_plan"))
-    s.fft_measure = r.choice("solver.fft_plan", {"estimate", "measure"}) == 1;
+  if (r.has("solver.fft_plan")) {
+    static constexpr FftPlanning kinds[] = {FftPlanning::automatic, FftPlanning::estimate,
+                                            FftPlanning::measure};
+    s.fft_plan = kinds[r.choice("solver.fft_plan", {"auto", "estimate", "measure"})];
+  }
   if (r.has("solver.monotone"))
     s.shortcut = r.choice("solver.monotone", {"incremental", "shortcut"}) == 1;
   if (r.has("solver.predictor")) {

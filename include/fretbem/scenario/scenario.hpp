@@ -26,6 +26,8 @@ enum class StiffnessMode { every, turning, none };
 /// solver.predictor: where a tangential increment may start (CyclePredictor). automatic: cycle
 /// when the load path repeats a transition and the remembered tractions fit in memory.
 enum class PredictorMode { automatic, none, cycle };
+/// solver.fft_plan: how FFTW plans are chosen (Scenario::Solver::fft_plan).
+enum class FftPlanning { automatic, estimate, measure };
 enum class WearLaw { none, archard, energy };
 /// arkode: erk or dirk, whichever the run's length against the explicit stability cap favours.
 enum class WearIntegrator { arkode, cycle, erk, dirk };
@@ -74,11 +76,12 @@ struct SolverSpec {
   int threads = 0;  ///< 0: all cores
   TangentialAlgorithm algorithm = TangentialAlgorithm::projected;
   StiffnessMode stiffness = StiffnessMode::every;  ///< which steps compute kx
-  /// true: FFTW_MEASURE plans, measured once per size and kept as wisdom (fft_wisdom.hpp); false:
-  /// ESTIMATE plans (no measuring, no file).
-  // estimate by default: MEASURE picks plans by timing, so two processes (a run and its
-  // resume, or runs racing to fill the same wisdom file) can differ in the last bits.
-  bool fft_measure = false;
+  /// solver.fft_plan: measure: FFTW_MEASURE plans, measured once per size and kept as wisdom
+  /// (fft_wisdom.hpp); estimate: ESTIMATE plans (no measuring, no file); automatic (the
+  /// default): measure when the wisdom file can be kept (fft_wisdom::persistent), so every run
+  /// on the machine plans from the same file and repeats the others bit for bit; estimate where
+  /// it cannot, since measuring in every process would pick plans by timing.
+  FftPlanning fft_plan = FftPlanning::automatic;
   /// float32: single-precision convolutions (opt-in; the default tolerance is then
   /// kFloatFftMinTolerance and smaller ones are refused).
   FftPrecision fft_precision = FftPrecision::float64;
