@@ -95,7 +95,9 @@ void Hdf5Writer::Impl::write_field(hid_t loc, const std::string& name, const Fie
   const hsize_t dims[2] = {static_cast<hsize_t>(f.cols()), static_cast<hsize_t>(f.rows())};
   SpaceH space(check(H5Screate_simple(2, dims, nullptr), "create a dataspace"));
   PlistH dcpl(check(H5Pcreate(H5P_DATASET_CREATE), "create a property list"));
-  if (f.size() > 0) {  // chunks must be non-empty and no larger than the dataset
+  const std::string leaf = name.substr(name.find_last_of('/') + 1);
+  const FieldInfo info = field_info(leaf);
+  if (f.size() > 0 && !info.dense) {  // chunks must be non-empty and no larger than the dataset
     const hsize_t cols = std::min<hsize_t>(dims[1], kFieldChunkElements);
     const hsize_t chunk[2] = {std::clamp<hsize_t>(kFieldChunkElements / cols, 1, dims[0]), cols};
     check(H5Pset_chunk(dcpl.get(), 2, chunk), "set the chunk size");
@@ -106,8 +108,7 @@ void Hdf5Writer::Impl::write_field(hid_t loc, const std::string& name, const Fie
   }
   const PlistH lcpl = link_plist();
   // Flag fields (state: 0 open, 1 stick, 2 slip) are stored as uint8, the rest as float64.
-  const std::string leaf = name.substr(name.find_last_of('/') + 1);
-  const bool flag = field_info(leaf).flag;
+  const bool flag = info.flag;
   DatasetH d(check(H5Dcreate2(loc, name.c_str(), flag ? H5T_STD_U8LE : H5T_IEEE_F64LE, space.get(),
                               lcpl.get(), dcpl.get(), H5P_DEFAULT),
                    "create dataset " + name));
@@ -272,6 +273,15 @@ void Hdf5Writer::write_text(const std::string& name, const std::string& text) {
 void Hdf5Writer::write_field(const std::string& path, const Field& field) {
   impl_->remove_if_exists(path);
   impl_->write_field(impl_->file.get(), path, field);
+  impl_->flush();
+}
+
+void Hdf5Writer::link(const std::string& existing, const std::string& path) {
+  impl_->remove_if_exists(path);
+  const PlistH lcpl = impl_->link_plist();
+  impl_->check(H5Lcreate_hard(impl_->file.get(), existing.c_str(), impl_->file.get(), path.c_str(),
+                              lcpl.get(), H5P_DEFAULT),
+               "link " + path + " to " + existing);
   impl_->flush();
 }
 

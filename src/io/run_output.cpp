@@ -130,7 +130,12 @@ void ResultFile::on_step(const StepRecord& rec, const InterfaceState& s, const M
 }
 
 void ResultFile::on_finish(const InterfaceState&, const Model& m) {
-  h5_.write_field("/surface/final", m.surface);
+  // Without wear the surface ends as it began: one dataset under both names.
+  if (m.surface.rows() == m.surface0.rows() && m.surface.cols() == m.surface0.cols() &&
+      (m.surface == m.surface0).all())
+    h5_.link("/surface/initial", "/surface/final");
+  else
+    h5_.write_field("/surface/final", m.surface);
   write_xdmf();
 }
 

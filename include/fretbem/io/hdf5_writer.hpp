@@ -48,6 +48,9 @@ class Hdf5Writer {
   void write_text(const std::string& name, const std::string& text);
   /// 2-D double dataset {ny, nx} at `path` (e.g. "/surface/initial"); replaces an old one.
   void write_field(const std::string& path, const Field& field);
+  /// `path` as a second name of the existing object `existing` (an HDF5 hard link: readers see
+  /// the same dataset, no bytes are written); replaces an old object of that name.
+  void link(const std::string& existing, const std::string& path);
   /// Group /fields/step_%06d with attributes step and time and one dataset per entry.
   /// A group of the same step written before (e.g. by a resumed run) is replaced.
   /// `prefix` names the group family (wear snapshots use "/wear/snapshot_").

@@ -25,6 +25,10 @@ struct FieldInfo {
   std::string units;
   std::string long_name;
   bool flag = false;
+  /// A height map: a value in every cell, where shuffle + deflate saves ~12 % of the bytes at
+  /// ~22 ms per 256^2 field (measured on rough_monotone's surface); stored uncompressed. The
+  /// contact fields are zero off the contact and keep the filter.
+  bool dense = false;
 };
 
 /// The description of a field by its dataset name (last path component, e.g. "pressure",
