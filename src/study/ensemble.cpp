@@ -167,7 +167,9 @@ bool run_members(const EnsembleOptions& o, std::vector<Member>& members, int job
       finish(m, *code);
       reaped = true;
     }
-    if (!reaped) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    // 2 ms: a free core waits ~1 ms on average for its next member (20 ms cost the paper
+    // ensemble's 100 one-second members ~0.5 s of wall time); the poll itself is two waitpid.
+    if (!reaped) std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   return !stop_requested();
 }
