@@ -71,6 +71,9 @@ StiffnessSolver::StiffnessSolver(TangentialOperator& op, double tolerance, int m
 
 bool StiffnessSolver::preconditioned(const std::vector<std::uint8_t>& stick) const {
   if (precondition_ != Precondition::automatic) return precondition_ == Precondition::on;
+  // Fewer stick nodes than a large patch needs: no flood fill (a pass over the grid).
+  if (std::count(stick.begin(), stick.end(), std::uint8_t(1)) < ProjectedCgSolver::kPatchNodes)
+    return false;
   const Grid& g = op_.grid();
   Field set(g.nx, g.ny);
   for (Eigen::Index k = 0; k < set.size(); ++k) set(k) = stick[std::size_t(k)];

@@ -84,9 +84,14 @@ class ProjectedCgSolver final : public TangentialSolver {
  private:
   template <int NC>
   TangentialResult solve_components(const TangentialIncrement& inc, VecField& tau, VecField& u);
+  /// preconditioned(bound) for a bound whose positive nodes are `contact`, remembered for that
+  /// set: the bound changes only with the normal solution.
+  bool preconditioned(const Field& bound, const std::vector<Eigen::Index>& contact);
 
   TangentialOperator& op_;
   TangentialOptions opt_;
+  std::vector<Eigen::Index> patch_key_;  // contact set of the last flood fill, and its answer
+  bool patch_pre_ = false;
   VecField d_, q_, r_, z_;  // direction, its image C d; preconditioner input S s, output
   // Displacement scale |C g|, reused while the bound is unchanged.
   std::unique_ptr<tangential_detail::ScaleCache> cache_;
