@@ -84,21 +84,30 @@ StepRecord StepRecord::from_values(const std::vector<double>& v) {
   return r;
 }
 
+// One pass over the states (five whole-grid masks and counts before: 5 % of a full-sliding
+// step, perf). F_x of the stick part sums in index order, where Eigen's sum of the masked
+// field did not: the column can move in its last bits.
 void measure_areas(const InterfaceState& s, const TangentialOperator& op, StepRecord& r) {
   const double a = op.grid().cell_area();
+  std::int64_t stick = 0, at_bound = 0, slip = 0;
+  double fstick = 0.0;
+  for (Eigen::Index k = 0; k < s.state.size(); ++k) {
+    const auto st = NodeState(s.state(k));
+    if (st == NodeState::slip) ++slip;
+    if (st != NodeState::stick && st != NodeState::stuck_at_bound) continue;
+    ++stick, at_bound += st == NodeState::stuck_at_bound;
+    fstick += s.traction[0](k);
+  }
   // Stick: did not slip in this step, inside the bound or on it (issue 17 §2).
-  const auto at_bound = (s.state == std::uint8_t(NodeState::stuck_at_bound));
-  const auto stick = (s.state == std::uint8_t(NodeState::stick)) || at_bound;
-  const auto slip = (s.state == std::uint8_t(NodeState::slip));
-  r.stick_area = stick.count() * a;
-  r.stuck_at_bound_area = at_bound.count() * a;
+  r.stick_area = double(stick) * a;
+  r.stuck_at_bound_area = double(at_bound) * a;
   r.slip_ring_cells = slip_ring_cells(s.state);
-  r.contact_nodes = contact_nodes(s.state);
-  r.slip_area = slip.count() * a;
+  r.contact_nodes = long(stick + slip);  // every state but open
+  r.slip_area = double(slip) * a;
   r.contact_area = r.stick_area + r.slip_area;
   // x component of the traction in global axes.
   const double ex = op.components() == 1 ? op.direction().x() : 1.0;
-  r.Fx_stick = (stick.cast<double>() * s.traction[0]).sum() * ex * a;
+  r.Fx_stick = fstick * ex * a;
 }
 
 }  // namespace fretbem
