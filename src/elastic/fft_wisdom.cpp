@@ -60,9 +60,17 @@ std::optional<FileLock> lock(FftPrecision p) {
   return FileLock::wait_lock(f.string() + ".lock");
 }
 
+// Forgets first: a WISDOM_ONLY attempt that failed leaves FFTW entries marking the problem
+// unsolvable, which the imported solution does not replace (observed: a process that waited
+// for the lock still measured its own, different plan).
 void reload(FftPrecision p) {
   const fs::path f = file(p);
-  if (!f.empty()) import_file(p, f);
+  if (f.empty()) return;
+  if (single(p))
+    fftwf_forget_wisdom();
+  else
+    fftw_forget_wisdom();
+  import_file(p, f);
 }
 
 void load(FftPrecision p) {

@@ -76,12 +76,12 @@ struct SolverSpec {
   int threads = 0;  ///< 0: all cores
   TangentialAlgorithm algorithm = TangentialAlgorithm::projected;
   StiffnessMode stiffness = StiffnessMode::every;  ///< which steps compute kx
-  /// solver.fft_plan: measure: FFTW_MEASURE plans, measured once per size and kept as wisdom
-  /// (fft_wisdom.hpp); estimate: ESTIMATE plans (no measuring, no file); automatic (the
-  /// default): measure when the wisdom file can be kept (fft_wisdom::persistent), so every run
-  /// on the machine plans from the same file and repeats the others bit for bit; estimate where
-  /// it cannot, since measuring in every process would pick plans by timing.
-  FftPlanning fft_plan = FftPlanning::automatic;
+  /// solver.fft_plan: estimate (the default): ESTIMATE plans, no measuring, no file, the same
+  /// bits with any thread count; measure: FFTW_MEASURE plans, measured once per size and thread
+  /// count and kept as wisdom (fft_wisdom.hpp); automatic: measure when the wisdom file can be
+  /// kept (fft_wisdom::persistent), else estimate. Measured plans are chosen per thread count,
+  /// so they give the same bits only at the same count (the ensemble's members: one thread).
+  FftPlanning fft_plan = FftPlanning::estimate;
   /// float32: single-precision convolutions (opt-in; the default tolerance is then
   /// kFloatFftMinTolerance and smaller ones are refused).
   FftPrecision fft_precision = FftPrecision::float64;
