@@ -79,7 +79,7 @@ TEST(FftWisdom, MeasuringWaitsForTheProcessThatHoldsTheLock) {
     const std::optional<FileLock> held = fft_wisdom::lock(FftPrecision::float64);
     const char c = held ? 'y' : 'n';
     if (::write(ready[1], &c, 1) != 1) std::_Exit(4);
-    std::this_thread::sleep_for(std::chrono::milliseconds(800));
+    std::this_thread::sleep_for(std::chrono::milliseconds(2000));  // margin for a loaded CI
     std::_Exit(0);
   }
   char c = 0;
@@ -97,7 +97,7 @@ TEST(FftWisdom, MeasuringWaitsForTheProcessThatHoldsTheLock) {
     hs.normal(p, u);
     std::_Exit(u.allFinite() && fs::exists(dir / "wisdom") ? 0 : 3);
   }
-  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
   int status = 0;
   EXPECT_EQ(::waitpid(planner, &status, WNOHANG), 0) << "planned while the lock was held";
   ASSERT_EQ(::waitpid(holder, &status, 0), holder);

@@ -60,9 +60,9 @@ std::optional<FileLock> lock(FftPrecision p) {
   return FileLock::wait_lock(f.string() + ".lock");
 }
 
-// Forgets first: a WISDOM_ONLY attempt that failed leaves FFTW entries marking the problem
-// unsolvable, which the imported solution does not replace (observed: a process that waited
-// for the lock still measured its own, different plan).
+// Forgets first, so that the file's entries are all the process knows: FFTW's planner also
+// records the lookups it made (the failed WISDOM_ONLY attempt included), and the process must
+// not plan from anything but what the lock holder saved. Plans already made stay valid.
 void reload(FftPrecision p) {
   const fs::path f = file(p);
   if (f.empty()) return;

@@ -6,7 +6,8 @@
 // process, as without wisdom. Measuring a size is serialised between processes by a lock file
 // next to the wisdom (FILE.lock): one process measures while the others wait and then plan
 // from its wisdom, so concurrent first runs (ensemble members, parallel tests) agree on one plan
-// per size and give the same bits.
+// per size and give the same bits. A file that a run of another size extends later can change
+// the plan of shared sub-problems (FFTW re-chooses them): a round-off change.
 #pragma once
 
 #include <filesystem>
