@@ -98,7 +98,7 @@ void refuse_unaggregatable(const Scenario& sc, const fs::path& file) {
 }
 
 // Settings every member starts from. One FFT thread: members run side by side. fft_plan = auto:
-// measured plans (5-12 % less CPU per member, docs/performance.md "Session 8"), which
+// measured plans (2-8 % less CPU per member, docs/performance.md "Session 8"), which
 // measure_plans_once has put in the wisdom file, so every member (and a user rerunning one
 // with the same file) plans from the same wisdom and gets the same bits.
 const std::vector<std::string>& member_defaults() {
