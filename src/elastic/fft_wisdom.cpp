@@ -43,20 +43,26 @@ fs::path file(FftPrecision p) {
   return {};
 }
 
-bool persistent(FftPrecision p) {
-  const fs::path f = file(p);
-  if (f.empty()) return false;
+namespace {
+
+// The file's folder, made if missing; false when it cannot be had or written.
+bool writable_folder(const fs::path& f) {
   std::error_code ec;
   const fs::path dir = f.has_parent_path() ? f.parent_path() : fs::path(".");
   fs::create_directories(dir, ec);
   return fs::is_directory(dir, ec) && ::access(dir.c_str(), W_OK) == 0;
 }
 
+}  // namespace
+
+bool persistent(FftPrecision p) {
+  const fs::path f = file(p);
+  return !f.empty() && writable_folder(f);
+}
+
 std::optional<FileLock> lock(FftPrecision p) {
   const fs::path f = file(p);
-  if (f.empty()) return std::nullopt;
-  std::error_code ec;
-  if (f.has_parent_path()) fs::create_directories(f.parent_path(), ec);
+  if (f.empty() || !writable_folder(f)) return std::nullopt;
   return FileLock::wait_lock(f.string() + ".lock");
 }
 
@@ -83,13 +89,12 @@ void load(FftPrecision p) {
 
 void save(FftPrecision p) {
   const fs::path f = file(p);
-  if (f.empty()) return;
-  std::error_code ec;
-  fs::create_directories(f.parent_path(), ec);
+  if (f.empty() || !writable_folder(f)) return;
   import_file(p, f);  // keep what other runs added since this one loaded
   const fs::path tmp = f.string() + ".tmp" + std::to_string(::getpid());
   const int ok = single(p) ? fftwf_export_wisdom_to_filename(tmp.c_str())
                            : fftw_export_wisdom_to_filename(tmp.c_str());
+  std::error_code ec;
   if (ok) fs::rename(tmp, f, ec);
   if (!ok || ec) fs::remove(tmp, ec);
 }

@@ -148,15 +148,20 @@ std::unique_ptr<Model> prepare_model(const Scenario& sc) {
   return m;
 }
 
-std::unique_ptr<Model> build_model(const Scenario& sc) {
-  auto m = prepare_model(sc);
+FftOptions fft_options(const Scenario& sc) {
   FftOptions fft;
   fft.threads = sc.solver.threads > 0 ? sc.solver.threads : default_threads(sc.grid);
   fft.precision = sc.solver.fft_precision;
   fft.measure =
       sc.solver.fft_plan == FftPlanning::measure ||
       (sc.solver.fft_plan == FftPlanning::automatic && fft_wisdom::persistent(fft.precision));
-  m->half_space = std::make_unique<HalfSpace>(sc.grid, sc.material, sc.solver.coupling, fft);
+  return fft;
+}
+
+std::unique_ptr<Model> build_model(const Scenario& sc) {
+  auto m = prepare_model(sc);
+  m->half_space =
+      std::make_unique<HalfSpace>(sc.grid, sc.material, sc.solver.coupling, fft_options(sc));
   // parse_scenario refuses these already; a Scenario built in code reaches this check.
   m->half_space->require_tolerance(sc.solver.tolerance, "solver.tolerance");
   NormalOptions nopt{sc.solver.tolerance, sc.solver.max_iterations, sc.solver.precondition};

@@ -102,7 +102,7 @@ void measure_areas(const InterfaceState& s, const TangentialOperator& op, StepRe
   r.stick_area = double(stick) * a;
   r.stuck_at_bound_area = double(at_bound) * a;
   r.slip_ring_cells = slip_ring_cells(s.state);
-  r.contact_nodes = long(stick + slip);  // every state but open
+  r.contact_nodes = contact_nodes(s.state);
   r.slip_area = double(slip) * a;
   r.contact_area = r.stick_area + r.slip_area;
   // x component of the traction in global axes.

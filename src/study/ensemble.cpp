@@ -22,8 +22,8 @@
 #include "fretbem/core/resources.hpp"
 #include "fretbem/core/stop_signal.hpp"
 #include "fretbem/core/text_file.hpp"
-#include "fretbem/elastic/fft_wisdom.hpp"
 #include "fretbem/elastic/half_space.hpp"
+#include "fretbem/history/model.hpp"
 #include "fretbem/io/output_lock.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/study/subprocess.hpp"
@@ -109,13 +109,10 @@ const std::vector<std::string>& member_defaults() {
 // Measures the members' FFT plans once, here, before they start: members then find them in the
 // wisdom file instead of waiting on its lock one after another (about 0.8 s at n = 256).
 void measure_plans_once(const Scenario& sc) {
-  const FftPrecision p = sc.solver.fft_precision;
-  if (sc.solver.fft_plan == FftPlanning::estimate ||
-      (sc.solver.fft_plan == FftPlanning::automatic && !fft_wisdom::persistent(p)))
-    return;
-  const HalfSpace plans(
-      sc.grid, sc.material, sc.solver.coupling,
-      FftOptions{.threads = std::max(1, sc.solver.threads), .measure = true, .precision = p});
+  const FftOptions fft = fft_options(sc);  // the members' own, as build_model resolves them
+  if (fft.measure) {
+    const HalfSpace plans(sc.grid, sc.material, sc.solver.coupling, fft);
+  }
 }
 
 // The member's command line: single-threaded FFTs with measured plans first (member_defaults),

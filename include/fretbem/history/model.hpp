@@ -61,6 +61,9 @@ void check_memory(const Scenario& sc);
 /// FFT threads for solver.threads = 0: one below n = 512, all usable CPUs (usable_cpus) from
 /// there up.
 int default_threads(const Grid& grid);
+/// The FFT settings of a scenario's HalfSpace: threads (default_threads for 0), precision, and
+/// solver.fft_plan resolved (auto: measure when fft_wisdom::persistent).
+FftOptions fft_options(const Scenario& sc);
 /// The surface a scenario describes (generated, or loaded and checked against the grid).
 Field make_surface(const Scenario& sc);
 
