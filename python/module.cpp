@@ -28,8 +28,8 @@ namespace {
 
 // A Field (nx x ny, column-major: x fastest) seen as a numpy (ny, nx) C-ordered array that
 // shares its memory; `owner` keeps the storage alive.
-// Read-only: the solver's own state. Writing NaN into model.surface ran into "normal solver
-// did not converge: residual nan", naming nothing (issue 14, session 6); copy to modify.
+// Read-only: the solver's own state. NaN written into model.surface would reach the solver
+// as "normal solver did not converge: residual nan", naming nothing; copy to modify.
 template <class Array>
 py::array view_yx(const Array& f, py::handle owner) {
   using T = typename Array::Scalar;

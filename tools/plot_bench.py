@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Pareto front of error against run time from bench_accuracy_vs_time's CSV (issue 7).
+"""Pareto front of error against run time from bench_accuracy_vs_time's CSV
+(docs/performance.md, "Run time against error").
 
 Usage: tools/plot_bench.py RESULTS.csv [--out FILE.png] [--time cpu|wall]
 

@@ -49,11 +49,11 @@ if [[ $# -gt 0 ]]; then  # a chosen subset: that alone
 fi
 ctest --test-dir "$FRETBEM_BUILD_DIR" --output-on-failure -j2
 
-# The whole suite passed. A quick sanitized subset follows (issue 14: "CI runs it on a quick
-# subset"): the bad-input corpus and the damaged-checkpoint and damaged-output tests under ASan
-# + UBSan, the inputs most likely to reach memory errors. Measured: about 3.5 min to build
-# fretbem and test_faults sanitized on 2 cores, 1.5 min to run. FRETBEM_SKIP_SANITIZE=1 skips it;
-# `tools/test.sh --sanitize` runs every unit test sanitized.
+# The whole suite passed. A quick sanitized subset follows: the bad-input corpus and the
+# damaged-checkpoint and damaged-output tests under ASan + UBSan, the inputs most likely to
+# reach memory errors. Measured: about 3.5 min to build fretbem and test_faults sanitized on 2
+# cores, 1.5 min to run. FRETBEM_SKIP_SANITIZE=1 skips it; `tools/test.sh --sanitize` runs
+# every unit test sanitized.
 if [[ "${FRETBEM_SKIP_SANITIZE:-0}" == 1 ]]; then exit 0; fi
 FRETBEM_BUILD_DIR=build-sanitize
 fretbem_configure_sanitized

@@ -1,7 +1,7 @@
 """Closed forms fretbem is checked against and users compare with (SI units): effective moduli
-(DESIGN §1), Hertz, Cattaneo–Mindlin and Mindlin–Deresiewicz for a sphere under a constant
-normal force (Johnson, Contact Mechanics, §§4.2, 7.2, 7.5). Pure numpy: the plot tools load
-this file without the compiled module.
+(README, "Conventions and physics"), Hertz, Cattaneo–Mindlin and Mindlin–Deresiewicz for a
+sphere under a constant normal force (Johnson, Contact Mechanics, §§4.2, 7.2, 7.5). Pure
+numpy: the plot tools load this file without the compiled module.
 """
 import numpy as np
 

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Accuracy of `fretbem check`'s cost estimate against real runs (issue 19).
+"""Accuracy of `fretbem check`'s cost estimate against real runs
+(docs/reliability.md, "Accuracy of check's cost estimate").
 
 For each case: `fretbem check` (its calibration) and then `fretbem run` on the same scenario
 and overrides; prints predicted vs measured FFT convolutions (stepped runs: the sum of

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Hostile-user hunt (issue 14, "go looking for the next ones yourself").
+"""Hostile-user hunt: what a careless or hostile user types, case by case.
 
 Runs what a careless or hostile user types at every surface of fretbem — sweeps, ensembles,
 wear keys, load tables, height-map files, output options, `check`, the Python module and the
@@ -16,7 +16,7 @@ plot tools — on small grids (n = 16-32), and flags, per case:
 
 Prints one line per case and a count per area; exit 1 when any case is flagged. The cases
 that found defects are kept as regression tests (tests/bad_inputs/, test_sweep.cpp, ...);
-this script is the record of what was tried (docs/reliability.md, "Hostile hunt").
+this script is the record of what was tried (docs/reliability.md, "Hostile-user hunt").
 """
 import argparse
 import glob

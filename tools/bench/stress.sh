@@ -1,5 +1,5 @@
 #!/bin/sh
-# Long stress cases (issue 7) that do not fit in CI: a very rough surface (H = 0.1) at n = 512
+# Long stress cases (docs/stability.md) that do not fit in CI: a very rough surface (H = 0.1) at n = 512
 # under a force-controlled sine to +-0.9 mu F_z, with both tangential algorithms. Prints the
 # time series' last rows and the peak memory; a failed solve exits non-zero with one line.
 # Usage: tools/bench/stress.sh [BUILD_DIR] [N]

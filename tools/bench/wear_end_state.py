@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Bench: the end state of partial-slip fretting wear against Popov's closed form (issue 12).
+"""Bench: the end state of partial-slip fretting wear against Popov's closed form
+(docs/wear.md, "Accuracy and end states").
 
 Sphere of fretting_wear.ini (10 N, R = 10 mm, steel, mu = 0.5) under Q = q mu P, every case
 run to N k_eq = 1e-6 (far past shakedown). Closed form (Popov, Sci. Rep. 4:3749, 2014):

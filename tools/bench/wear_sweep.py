@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Wear stress sweep (issue 12): what a user can type, each case checked against its end state.
+"""Wear stress sweep (docs/wear.md, "Stress sweep"): what a user can type, each case checked against its end state.
 
 Every case runs `fretbem run` on a sphere (fretting_wear.ini's by default: 10 N, R = 10 mm,
 steel, mu = 0.5) with --set overrides and must end with exit 0 and
