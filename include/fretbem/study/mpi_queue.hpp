@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "fretbem/study/sweep_runner.hpp"
+#include "fretbem/study/member_pool.hpp"
 
 namespace fretbem {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "fretbem/study/sweep_runner.hpp"
+#include "fretbem/study/member_pool.hpp"
 
 namespace fretbem {
 
@@ -17,7 +17,7 @@ struct SweepCommand {
   bool list = false;              ///< --list: print one member command per line
   long member = -1;               ///< --member K: run member K only
   bool aggregate = false;         ///< --aggregate: write sweep.csv from what finished
-  SweepOptions options;
+  PoolOptions options;
 };
 
 /// Exit status: 0 all members ok (or listed/aggregated), 4 some failed, 143 (128 + SIGTERM)

@@ -13,7 +13,9 @@
 namespace fretbem {
 
 struct SweepTally {
-  int ok = 0, failed = 0, missing = 0;  ///< missing: not run, interrupted or running
+  int ok = 0, failed = 0;
+  int running = 0;  ///< marked running: run by another process now, or killed while running
+  int missing = 0;  ///< not run yet, or interrupted
 };
 
 /// Writes DIR/sweep.csv from the members' directories (atomically: a temporary file renamed).

@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "fretbem/study/study_members.hpp"
+
 namespace fretbem {
 
 /// Most members a study may have (as many as one range may hold); more are refused before
@@ -62,6 +64,10 @@ struct SweepSpec {
 
   /// Directory of member k below `out`: member_0007 (zero-padded to the member count's width).
   std::filesystem::path member_dir(std::size_t k) const;
+
+  /// The members as the study's pool runs them (solver.threads=1 before each member's sets);
+  /// refers to this spec, which must outlive it.
+  StudyMembers study_members() const;
 };
 
 /// Values of one [vary] entry: "a, b, c", "linear(a, b, n)" or "log(a, b, n)". Numbers are
