@@ -313,8 +313,8 @@ TEST(StudyFaults, RerunBesideAKilledSweepsRunningMemberIsNotSuccess) {
 // An ensemble killed outright (SIGKILL to it and its members: a node failure, the OOM killer)
 // is continued by running the same command again: the finished member is kept as it is, the
 // killed one continues from its checkpoint in place, and its rows are those of the member run
-// alone without interruption. Before, every member of the re-run failed on its folder's
-// results ("pass --overwrite").
+// alone without interruption (a re-run that started the members afresh into their folders
+// would fail each of them on the results there: "pass --overwrite").
 TEST(StudyFaults, EnsembleKilledOutrightContinuesOnRerun) {
   const fs::path d = scratch("killed_ensemble"), out = d / "e";
   // This test's own wisdom file: a concurrent test measuring another size could extend a shared

@@ -1,4 +1,4 @@
-// DIR/sweep.csv (issue 15): one row per member, in member order: index, directory, the varied
+// DIR/sweep.csv: one row per member, in member order: index, directory, the varied
 // values, status (ok, failed, interrupted, running, missing), exit code, wall seconds, error, then
 // the member's summary copied digit for digit from its outputs: every column of the last row of its
 // cycles.csv (the steady cycle: dissipated energy, loop area, kx at the turning points, slip area

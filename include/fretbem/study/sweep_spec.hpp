@@ -1,4 +1,4 @@
-// A parameter study (issue 15): a base scenario, fixed overrides and the keys to vary, read from
+// A parameter study: a base scenario, fixed overrides and the keys to vary, read from
 // a study file. The members are the Cartesian product (or the zip) of the varied values; each
 // member is the base scenario with `--set key=value` overrides.
 //
