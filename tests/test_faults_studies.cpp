@@ -1,14 +1,20 @@
-// Hostile-user faults of studies and ensembles (issue 14, session 6; tools/bench/hostile_hunt.py
-// found each of these): summaries on a full disk, two studies into one folder, a member still
-// run by another process, study files and options a careless user types, ensembles of what
-// cannot be aggregated. Members are n = 32, one cycle of 8 steps (well under a second each).
+// Hostile-user faults of studies and ensembles (tools/bench/hostile_hunt.py found most of
+// these): summaries on a full disk, two studies into one folder, a member still run by another
+// process, studies and ensembles killed outright and run again, study files and options a
+// careless user types, ensembles of what cannot be aggregated. Members are n = 16 or 32, a few
+// to a few hundred steps (well under a second each on an idle core).
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/mount.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <string>
+#include <thread>
 
 #include "fretbem/core/file_lock.hpp"
 #include "fretbem/core/text_file.hpp"
@@ -40,6 +46,64 @@ int count_of(const std::string& s, const std::string& what) {
   int n = 0;
   for (std::size_t p = 0; (p = s.find(what, p)) != std::string::npos; ++p) ++n;
   return n;
+}
+
+// Polls `done` every 20 ms until it holds or `limit` has passed (a bound for a broken build,
+// far beyond what a loaded machine needs); whether it held.
+bool wait_until(const std::function<bool()>& done,
+                std::chrono::seconds limit = std::chrono::seconds(120)) {
+  const auto t0 = std::chrono::steady_clock::now();
+  while (!done()) {
+    if (std::chrono::steady_clock::now() - t0 > limit) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return true;
+}
+
+// Starts `fretbem ARGS...` as the leader of a new process group (the members it spawns join
+// it), stderr into `err`: the group can then be killed outright, as a node failure would.
+pid_t start_group(const std::vector<std::string>& args, const fs::path& err) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    setpgid(0, 0);
+    if (!freopen(err.c_str(), "w", stderr)) _exit(127);
+    std::vector<char*> argv{const_cast<char*>(kBin.c_str())};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(kBin.c_str(), argv.data());
+    _exit(127);
+  }
+  setpgid(pid, pid);  // also here: the group exists before the parent signals it
+  return pid;
+}
+
+// A member's time series has a data row: its run is under way (and holds its folder's lock).
+bool has_rows(const fs::path& csv, int rows = 1) {
+  return lines(slurp(csv)) >= rows + 1;
+}
+
+// The member's own run has ended: nobody holds its folder's lock any more.
+bool run_ended(const fs::path& member_dir) {
+  return FileLock::try_lock(member_dir / ".fretbem.lock").has_value();
+}
+
+// The physical columns of a time series: all but `kx`, which a resumed run repeats only to its
+// solver tolerance (README, "resume"), and `convolutions`, the work a step cost (a resumed step
+// that rebuilds its solver state costs more; seen: 16 against 7).
+std::vector<std::string> physical_rows(const fs::path& csv) {
+  std::vector<std::string> rows;
+  std::stringstream in(slurp(csv));
+  std::vector<bool> skip;
+  for (std::string line; std::getline(in, line);) {
+    std::stringstream cells(line);
+    std::string row, c;
+    for (std::size_t i = 0; std::getline(cells, c, ','); ++i) {
+      if (rows.empty()) skip.push_back(c == "kx" || c == "convolutions");
+      if (i >= skip.size() || !skip[i]) row += c + ",";
+    }
+    rows.push_back(row);
+  }
+  return rows;
 }
 
 }  // namespace
@@ -96,7 +160,8 @@ TEST(StudyFaults, TwoSweepsIntoOneFolderShareTheMembers) {
 
 // A member another process holds is left to it: the study's member lock (another study), or the
 // member's own run lock (a `fretbem run` orphaned by a study killed with SIGKILL, which a rerun
-// used to delete under it). The rerun after the locks are gone runs just those members.
+// used to delete under it); the study then has no result for them and exits 4. The rerun after
+// the locks are gone runs just those members.
 TEST(StudyFaults, SweepLeavesMembersOthersRun) {
   const fs::path d = scratch("held_members");
   const fs::path study = small_study(d), out = d / "out";
@@ -108,7 +173,8 @@ TEST(StudyFaults, SweepLeavesMembersOthersRun) {
     std::ofstream(out / "member_0001" / "timeseries.csv") << "step\n0\n";  // the orphan's
     const Result r =
         shell(kBin + " sweep " + study.string() + " --jobs 1 --out " + out.string(), d);
-    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.status, 4) << r.err;  // two members have no result yet
+    EXPECT_NE(r.err.find("2 ok, 0 failed"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("member 0 (member_0000) is being run by another fretbem process"),
               std::string::npos)
         << r.err;
@@ -212,4 +278,132 @@ TEST(StudyFaults, SummariesOnAFullDiskKeepTheLastGoodVersion) {
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_NE(r.err.find("aggregate.csv: cannot write"), std::string::npos) << r.err;
   EXPECT_FALSE(written);
+}
+
+// A sweep killed outright (SIGKILL to the study alone) leaves its running member's `fretbem
+// run` behind. Re-running the study while that run still writes leaves the member to it, and
+// must not report success: exit 4, the member `running` in sweep.csv, the count on stderr.
+TEST(StudyFaults, RerunBesideAKilledSweepsRunningMemberIsNotSuccess) {
+  const fs::path d = scratch("killed_sweep");
+  const fs::path study = d / "study.ini", out = d / "out";
+  // Member 0 runs for minutes (until killed below), member 1 in a fraction of a second.
+  std::ofstream(study) << "[study]\nscenario = " << kMindlin
+                       << "\nset = grid.n=32\nset = load.steps_per_cycle=8\n"
+                          "[vary]\nload.cycles = 20000, 1\n";
+  const pid_t sweep = start_group(
+      {"sweep", study.string(), "--jobs", "1", "--quiet", "--out", out.string()}, d / "first.err");
+  const fs::path member0 = out / "member_0000";
+  ASSERT_TRUE(wait_until([&] { return has_rows(member0 / "timeseries.csv"); }))
+      << slurp(d / "first.err");
+  kill(sweep, SIGKILL);
+  waitpid(sweep, nullptr, 0);
+  ASSERT_FALSE(run_ended(member0)) << "the orphaned member run should still be running";
+  const Result r =
+      shell(kBin + " sweep " + study.string() + " --jobs 1 --quiet --out " + out.string(), d);
+  kill(-sweep, SIGKILL);  // the orphan
+  EXPECT_EQ(r.status, 4) << r.err;
+  EXPECT_NE(r.err.find("member 0 (member_0000): a fretbem run is still writing into it"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("1 ok, 0 failed, 1 running"), std::string::npos) << r.err;
+  EXPECT_EQ(column(out / "sweep.csv", "status"), (std::vector<std::string>{"running", "ok"}));
+  EXPECT_TRUE(wait_until([&] { return run_ended(member0); }));
+}
+
+// An ensemble killed outright (SIGKILL to it and its members: a node failure, the OOM killer)
+// is continued by running the same command again: the finished member is kept as it is, the
+// killed one continues from its checkpoint in place, and its rows are those of the member run
+// alone without interruption (a re-run that started the members afresh into their folders
+// would fail each of them on the results there: "pass --overwrite").
+TEST(StudyFaults, EnsembleKilledOutrightContinuesOnRerun) {
+  const fs::path d = scratch("killed_ensemble"), out = d / "e";
+  // This test's own wisdom file: a concurrent test measuring another size could extend a shared
+  // one between the runs compared below (FFTW may then re-choose plans: round-off changes).
+  setenv("FRETBEM_FFTW_WISDOM", (d / "wisdom").c_str(), 1);
+  const std::vector<std::string> args{"ensemble",
+                                      kRough,
+                                      "--hurst",
+                                      "0.5",
+                                      "--seeds",
+                                      "2",
+                                      "--jobs",
+                                      "1",
+                                      "--quiet",
+                                      "--out",
+                                      out.string(),
+                                      "--set",
+                                      "grid.n=32",
+                                      "--set",
+                                      "load.steps=1000",
+                                      "--set",
+                                      "output.checkpoint_every=50"};
+  const pid_t ensemble = start_group(args, d / "first.err");
+  const fs::path seed1 = out / "H0.5" / "seed_001", seed2 = out / "H0.5" / "seed_002";
+  // Members run one at a time: seed 2 has a checkpoint once seed 1 has ended.
+  ASSERT_TRUE(wait_until([&] { return fs::exists(seed2 / "checkpoint.h5"); }))
+      << slurp(d / "first.err");
+  kill(-ensemble, SIGKILL);
+  waitpid(ensemble, nullptr, 0);
+  ASSERT_TRUE(wait_until([&] { return run_ended(seed2); }));
+  std::ofstream(seed1 / "marker") << "kept";
+  std::ofstream(seed2 / "marker") << "kept";
+  std::string cmd = kBin;
+  for (const auto& a : args) cmd += " " + a;
+  const Result r = shell(cmd, d);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(seed1 / "marker")) << "the finished member ran again";
+  EXPECT_TRUE(fs::exists(seed2 / "marker")) << "the killed member started afresh";
+  const auto members = slurp(out / "members.csv");
+  EXPECT_EQ(count_of(members, ",0,"), 2) << members;
+  EXPECT_EQ(count_of(members, ",ok\n"), 2) << members;
+  const std::string alone = (d / "alone").string();
+  ASSERT_EQ(shell(kBin + " run " + kRough + " --quiet --out " + alone +
+                      " --set solver.threads=1 --set solver.fft_plan=auto --set grid.n=32 --set "
+                      "load.steps=1000 --set output.checkpoint_every=50 --set surface.hurst=0.5 "
+                      "--set surface.seed=2",
+                  d)
+                .status,
+            0);
+  const auto continued = physical_rows(seed2 / "timeseries.csv"),
+             uninterrupted = physical_rows(fs::path(alone) / "timeseries.csv");
+  ASSERT_EQ(continued.size(), 1002u);
+  ASSERT_EQ(uninterrupted.size(), 1002u);
+  for (std::size_t i = 0; i < continued.size(); ++i)
+    if (continued[i] != uninterrupted[i]) {
+      EXPECT_EQ(continued[i], uninterrupted[i]) << "first differing row " << i;
+      break;
+    }
+  unsetenv("FRETBEM_FFTW_WISDOM");
+}
+
+// aggregate.csv leaves a cell empty where there is no value (no NaN): the means of a bin no
+// member reaches, the 95 % interval of a bin one member covers (the interval needs two).
+TEST(StudyFaults, EnsembleAggregateLeavesMissingValuesEmpty) {
+  const fs::path d = scratch("aggregate_cells"), out = d / "e";
+  // One member, a displacement ramp that stops far below full sliding: f covers [0, ~0.25].
+  const Result r = shell(kBin + " ensemble " + kRough +
+                             " --hurst 0.5 --seeds 1 --bins 20 --quiet --out " + out.string() +
+                             " --set grid.n=16 --set load.steps=3 --set "
+                             "load.displacement_amplitude=5e-7",
+                         d);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string agg = slurp(out / "aggregate.csv");
+  EXPECT_EQ(agg.find("nan"), std::string::npos) << agg;
+  int covered = 0, empty = 0;
+  std::stringstream in(agg);
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::vector<std::string> c;
+    std::stringstream cells(line + ",");  // the trailing comma keeps a last empty cell
+    for (std::string v; std::getline(cells, v, ',');) c.push_back(v);
+    ASSERT_EQ(c.size(), 13u) << line;
+    for (int i = 0; i < 5; ++i) EXPECT_FALSE(c[i].empty()) << line;  // the bin itself
+    const bool one = c[5] == "1";
+    covered += one, empty += c[5] == "0";
+    for (int i : {7, 9, 11}) EXPECT_EQ(c[i].empty(), !one) << line;  // means
+    for (int i : {8, 10, 12}) EXPECT_TRUE(c[i].empty()) << line;     // intervals
+  }
+  EXPECT_GT(covered, 0);
+  EXPECT_GT(empty, 0);
 }

@@ -35,7 +35,9 @@ def read_aggregate(path):
         fp.fail(TOOL, f"{path}: no rows")
     out = {}
     for r in rows:
-        out.setdefault(float(r["hurst"]), []).append({k: float(v) for k, v in r.items()})
+        # An empty cell is a value the bin has not got (no member, or one: no interval).
+        out.setdefault(float(r["hurst"]), []).append(
+            {k: float(v) if v != "" else np.nan for k, v in r.items()})
     return {H: {k: np.array([r[k] for r in rs]) for k in rs[0]} for H, rs in out.items()}
 
 

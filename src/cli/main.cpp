@@ -18,6 +18,7 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/hdf5.hpp"
+#include "fretbem/core/output_lock.hpp"
 #include "fretbem/core/resources.hpp"
 #include "fretbem/core/stop_signal.hpp"
 #include "fretbem/history/check_report.hpp"
@@ -27,7 +28,6 @@
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/failed_solve.hpp"
-#include "fretbem/io/output_lock.hpp"
 #include "fretbem/io/resolution_report.hpp"
 #include "fretbem/io/result_recovery.hpp"
 #include "fretbem/io/resume_check.hpp"
@@ -353,8 +353,9 @@ int cmd_surface(const Args& a) {
   return 0;
 }
 
-// Members are separate `fretbem run` processes; exit 4 when any of them failed, 143 when a
-// signal stopped the ensemble (members.csv and aggregate.csv written anyway).
+// Members are separate `fretbem run` processes; exit 4 when any of them is not ok (failed, or
+// still run by a killed ensemble's orphan), 143 when a signal stopped the ensemble
+// (members.csv and aggregate.csv written anyway).
 int cmd_ensemble(const Args& a) {
   if (a.scenario.empty()) throw InputError("ensemble: no scenario file given");
   EnsembleOptions o;
@@ -365,10 +366,14 @@ int cmd_ensemble(const Args& a) {
   o.out = a.out;
   o.quiet = a.quiet;
   o.overwrite = a.overwrite;
-  const int failed = run_ensemble(o);
-  if (failed == kEnsembleStopped) return 143;  // as `fretbem sweep`: 128 + SIGTERM
-  if (failed) std::fprintf(stderr, "fretbem ensemble: %d member(s) failed\n", failed);
-  return failed ? 4 : 0;
+  const int not_ok = run_ensemble(o);
+  if (not_ok == kEnsembleStopped) return 143;  // as `fretbem sweep`: 128 + SIGTERM
+  if (not_ok)
+    std::fprintf(stderr,
+                 "fretbem ensemble: %d member(s) not ok (failed, or run by another process; "
+                 "members.csv says which)\n",
+                 not_ok);
+  return not_ok ? 4 : 0;
 }
 
 // Exit 4 when members failed, 143 when a signal stopped the study (sweep.csv written anyway).

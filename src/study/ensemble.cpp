@@ -1,33 +1,28 @@
 #include "fretbem/study/ensemble.hpp"
 
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <boost/math/distributions/students_t.hpp>
 #include <charconv>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <map>
 #include <optional>
 #include <sstream>
-#include <thread>
 
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/output_lock.hpp"
 #include "fretbem/core/resources.hpp"
 #include "fretbem/core/stop_signal.hpp"
 #include "fretbem/core/text_file.hpp"
 #include "fretbem/elastic/half_space.hpp"
 #include "fretbem/history/model.hpp"
-#include "fretbem/io/output_lock.hpp"
 #include "fretbem/scenario/scenario.hpp"
-#include "fretbem/study/subprocess.hpp"
-#include "fretbem/study/sweep_runner.hpp"
+#include "fretbem/study/member_pool.hpp"
+#include "fretbem/study/member_status.hpp"
+#include "fretbem/study/mpi_queue.hpp"
 
 namespace fretbem {
 
@@ -37,14 +32,14 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+// One member: its surface, its folder below the ensemble's, and, once the pool is done, what
+// its status file says.
 struct Member {
   double hurst = 0;
   int seed = 0;
   fs::path dir;
-  pid_t pid = -1;
-  int exit_code = -1;
-  double seconds = 0;
-  std::chrono::steady_clock::time_point start;
+  MemberStatus status;
+  bool ok = false;  ///< finished with exit 0 and its time series read
 };
 
 }  // namespace
@@ -58,7 +53,7 @@ std::vector<double> parse_hurst_list(const std::string& list) {
         !(v > 0 && v <= 1))
       throw InputError("--hurst: '" + tok + "' is not a Hurst exponent in (0, 1]");
     // One member directory per (H, seed): a repeated H would run into the same directory
-    // and count its members twice (issue 14 item 10).
+    // and count its members twice.
     if (std::find(out.begin(), out.end(), v) != out.end())
       throw InputError("--hurst: " + format_number(v) + " is listed twice");
     out.push_back(v);
@@ -77,7 +72,7 @@ fs::path member_dir(double hurst, int seed) {
 
 namespace {
 
-// What the aggregate needs of every member (issue 14, session 6: each of these ran to exit 0):
+// What the aggregate needs of every member (without each of these an ensemble ran to exit 0):
 // seeds and H change a rough surface only (a sphere gave identical members and a zero-width
 // interval), k_x at every step (`none`/`turning` left every k_x column nan), and a tangential
 // path (without one every bin was empty).
@@ -115,84 +110,40 @@ void measure_plans_once(const Scenario& sc) {
   }
 }
 
-// The member's command line: single-threaded FFTs with measured plans first (member_defaults),
-// so that a user's --set still wins, then the user's overrides, then the member's surface.
-// Identical to what a user types to rerun the member alone (see docs/paper-reproduction.md).
-std::vector<std::string> member_args(const EnsembleOptions& o, const Member& m) {
-  std::vector<std::string> a{o.binary.string(), "run",   o.scenario.string(),
-                             "--quiet",         "--out", (o.out / m.dir).string()};
-  for (const auto& s : member_defaults()) a.insert(a.end(), {"--set", s});
-  if (o.overwrite) a.push_back("--overwrite");
-  for (const auto& s : o.sets) a.insert(a.end(), {"--set", s});
-  a.insert(a.end(), {"--set", "surface.hurst=" + format_number(m.hurst), "--set",
-                     "surface.seed=" + std::to_string(m.seed)});
-  return a;
-}
-
-// Starts one member with stdout and stderr in its directory's log.txt (a fresh log: a rerun
-// with --overwrite must not show the previous run's last line as this one's error).
-void spawn(const EnsembleOptions& o, Member& m) {
-  fs::create_directories(o.out / m.dir);
-  const fs::path log = o.out / m.dir / "log.txt";
-  fs::remove(log);
-  m.start = std::chrono::steady_clock::now();
-  m.pid = spawn_logged(member_args(o, m), log);
-  if (m.pid < 0) m.exit_code = 127;
-}
-
-void report(const EnsembleOptions& o, const Member& m, int done, int total) {
-  const bool ok = m.exit_code == 0;
-  if (!ok)
-    std::fprintf(stderr, "fretbem ensemble: member %s failed (exit %d): %s\n",
-                 m.dir.string().c_str(), m.exit_code, last_line(o.out / m.dir / "log.txt").c_str());
-  else if (!o.quiet)
-    std::fprintf(stderr, "[%d/%d] %s ok, %.1f s\n", done, total, m.dir.string().c_str(), m.seconds);
-}
-
-// Runs the members, at most `jobs` at a time; fills exit codes and wall times. SIGTERM or
-// SIGINT (the sweep's handler) ends the running members, which count as failed, starts no
-// more (their exit code stays -1), and returns false; finished members are kept.
-bool run_members(const EnsembleOptions& o, std::vector<Member>& members, int jobs) {
-  std::map<pid_t, Member*> running;
-  std::size_t next = 0;
-  int done = 0;
-  auto finish = [&](Member& m, int code) {
-    m.exit_code = code;
-    m.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - m.start).count();
-    report(o, m, ++done, int(members.size()));
+// The members as the study pool runs them: single-threaded FFTs with measured plans first
+// (member_defaults), so that a user's --set still wins, then the user's overrides, then the
+// member's surface. The command line is what a user types to rerun a member alone (see
+// docs/paper-reproduction.md).
+StudyMembers study_members(const EnsembleOptions& o, const std::vector<Member>& members) {
+  StudyMembers m;
+  m.scenario = o.scenario, m.out = o.out, m.defaults = member_defaults();
+  m.count = members.size();
+  m.dir = [&members](std::size_t k) { return members[k].dir; };
+  m.sets = [&o, &members](std::size_t k) {
+    std::vector<std::string> sets = o.sets;
+    sets.push_back("surface.hurst=" + format_number(members[k].hurst));
+    sets.push_back("surface.seed=" + std::to_string(members[k].seed));
+    return sets;
   };
-  while (next < members.size() || !running.empty()) {
-    if (stop_requested()) {
-      for (const auto& [pid, m] : running) kill(pid, SIGTERM);
-      for (const auto& [pid, m] : running) finish(*m, wait_child(pid));
-      return false;
-    }
-    while (next < members.size() && int(running.size()) < jobs) {
-      Member& m = members[next++];
-      spawn(o, m);
-      if (m.pid > 0)
-        running[m.pid] = &m;
-      else
-        report(o, m, ++done, int(members.size()));
-    }
-    // Polled, not a blocking wait: a signal must be seen while members run.
-    bool reaped = false;
-    for (auto it = running.begin(); it != running.end();) {
-      const auto code = poll_child(it->first);
-      if (!code) {
-        ++it;
-        continue;
-      }
-      Member& m = *it->second;
-      it = running.erase(it);
-      finish(m, *code);
-      reaped = true;
-    }
-    // 2 ms: a free core waits ~1 ms on average for its next member (20 ms cost the paper
-    // ensemble's 100 one-second members ~0.5 s of wall time); the poll itself is two waitpid.
-    if (!reaped) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  return m;
+}
+
+// Runs the members that are not complete yet (every member with --overwrite), at most `jobs`
+// at a time, and reads back each one's status. False when SIGTERM or SIGINT stopped them.
+bool run_members(const EnsembleOptions& o, std::vector<Member>& members) {
+  const StudyMembers study = study_members(o, members);
+  PoolOptions pool;
+  pool.jobs = o.jobs, pool.quiet = o.quiet, pool.binary = o.binary;
+  pool.label = "fretbem ensemble", pool.restart = o.overwrite;
+  std::vector<std::size_t> todo;
+  for (std::size_t k = 0; k < members.size(); ++k) todo.push_back(k);
+  if (!o.overwrite) todo = pending_members(study);
+  const bool finished = run_study_members(study, *make_local_queue(todo), pool);
+  for (std::size_t k = 0; k < members.size(); ++k) {
+    members[k].status = read_member_status(study.path(k));
+    members[k].ok = member_complete(study, k);
   }
-  return !stop_requested();
+  return finished;
 }
 
 }  // namespace
@@ -248,18 +199,22 @@ MeanCi mean_ci95(const std::vector<double>& v) {
 
 namespace {
 
-// DIR/members.csv: one row per member with exit code and wall time.
+// DIR/members.csv: one row per member with exit code, wall time of its last attempt and status
+// (the words of sweep.csv); a member never started has exit code -1.
 void write_members(const fs::path& file, const std::vector<Member>& members) {
   std::ostringstream out;
-  out << "hurst,seed,dir,exit_code,wall_seconds\n";
+  out << "hurst,seed,dir,exit_code,wall_seconds,status\n";
   for (const auto& m : members)
     out << format_number(m.hurst) << ',' << m.seed << ',' << m.dir.generic_string() << ','
-        << m.exit_code << ',' << m.seconds << '\n';
+        << m.status.exit_code << ',' << format_number(m.status.seconds) << ','
+        << member_status_word(m.status, m.ok) << '\n';
   write_file_atomically(file, out.str());
 }
 
-std::string fmt(double v) {
-  return std::isfinite(v) ? format_number(v) : "nan";
+// An aggregate cell without a value (a mean over no member, an interval of fewer than two)
+// stays empty: a reader's CSV parser then sees a missing value, never a NaN to average over.
+std::string cell(double v) {
+  return std::isfinite(v) ? format_number(v) : "";
 }
 
 // DIR/aggregate.csv: per H and bin, each member's curve interpolated at the bin centre (not
@@ -271,11 +226,11 @@ using Curves = std::map<const Member*, MemberCurve>;
 Curves load_curves(const EnsembleOptions& o, std::vector<Member>& members, double mu) {
   Curves curves;
   for (auto& m : members) {
-    if (m.exit_code != 0) continue;
+    if (!m.ok) continue;
     try {
       curves[&m] = read_member_curve(o.out / m.dir / "timeseries.csv", mu);
     } catch (const std::exception& e) {
-      m.exit_code = -1;
+      m.ok = false, m.status.exit_code = -1;
       std::fprintf(stderr, "fretbem ensemble: member %s: %s\n", m.dir.string().c_str(), e.what());
     }
   }
@@ -292,7 +247,7 @@ void write_aggregate(const EnsembleOptions& o, const std::vector<Member>& member
     int failed = 0;
     for (const auto& m : members) {
       if (m.hurst != H) continue;
-      if (m.exit_code != 0)
+      if (!m.ok)
         ++failed;
       else
         curves.push_back(all.at(&m));
@@ -306,13 +261,13 @@ void write_aggregate(const EnsembleOptions& o, const std::vector<Member>& member
         Fs.push_back(interpolate(c.f, c.fstick, fc));
       }
       const MeanCi a = mean_ci95(A), k = mean_ci95(K), s = mean_ci95(Fs);
-      out << format_number(H) << ',' << b << ',' << fmt(lo) << ',' << fmt(hi) << ',' << fmt(fc)
-          << ',' << a.n << ',' << failed << ',' << fmt(a.mean) << ',' << fmt(a.half_width) << ','
-          << fmt(k.mean) << ',' << fmt(k.half_width) << ',' << fmt(s.mean) << ','
-          << fmt(s.half_width) << '\n';
+      out << format_number(H) << ',' << b << ',' << cell(lo) << ',' << cell(hi) << ',' << cell(fc)
+          << ',' << a.n << ',' << failed << ',' << cell(a.mean) << ',' << cell(a.half_width) << ','
+          << cell(k.mean) << ',' << cell(k.half_width) << ',' << cell(s.mean) << ','
+          << cell(s.half_width) << '\n';
     }
   }
-  // Checked: a full disk truncated aggregate.csv silently, with exit 0 (issue 14, session 6).
+  // Whole or not at all: an unchecked stream on a full disk leaves a truncated file and exit 0.
   write_file_atomically(o.out / "aggregate.csv", out.str());
 }
 
@@ -342,14 +297,9 @@ int run_ensemble(const EnsembleOptions& opt) {
     mu = member->material.mu;
   }
   if (o.out.empty()) o.out = fs::path("out") / ("ensemble_" + o.scenario.stem().string());
-  // One ensemble per folder at a time: a second one removed the first's member logs and
-  // overwrote its aggregate (members.csv did not exist yet when both started).
+  // One ensemble per folder at a time: two would start the same members and each overwrite
+  // the other's aggregate. A re-run into the folder continues the ensemble there.
   const OutputLock lock(o.out, "ensemble");
-  std::error_code ec;
-  if (!o.overwrite && fs::exists(o.out / "members.csv", ec))
-    throw InputError(o.out.string() +
-                     ": holds the results of another ensemble (members.csv); "
-                     "pass --overwrite to replace them, or choose another --out");
   std::vector<Member> members;
   for (double H : o.hurst)
     for (int s = 1; s <= o.seeds; ++s) {
@@ -359,16 +309,16 @@ int run_ensemble(const EnsembleOptions& opt) {
     }
   install_stop_signal_handlers();
   measure_plans_once(*member);  // grid, material and solver are those of every member
-  const bool complete = run_members(o, members, o.jobs);
+  const bool complete = run_members(o, members);
   const Curves curves = load_curves(o, members, mu);
   write_members(o.out / "members.csv", members);
   write_aggregate(o, members, curves);
-  int failed = 0;
-  for (const auto& m : members) failed += m.exit_code != 0;
+  int not_ok = 0;
+  for (const auto& m : members) not_ok += !m.ok;
   if (!complete)
     std::fprintf(stderr, "fretbem ensemble: stopped by a signal; %d of %zu member(s) finished\n",
-                 int(members.size()) - failed, members.size());
-  return complete ? failed : kEnsembleStopped;
+                 int(members.size()) - not_ok, members.size());
+  return complete ? not_ok : kEnsembleStopped;
 }
 
 }  // namespace fretbem

@@ -8,6 +8,7 @@
 #include "fretbem/core/stop_signal.hpp"
 #include "fretbem/core/text_file.hpp"
 #include "fretbem/history/resolution.hpp"
+#include "fretbem/study/member_status.hpp"
 #include "fretbem/study/mpi_queue.hpp"
 #include "fretbem/study/sweep_aggregate.hpp"
 
@@ -41,19 +42,30 @@ void print_member_commands(const SweepCommand& cmd, const SweepSpec& spec) {
   }
 }
 
-int aggregate(const SweepSpec& spec, bool quiet) {
+// Writes sweep.csv and says how many members are in which state (always when some is not ok).
+SweepTally aggregate(const SweepSpec& spec, bool quiet) {
   const SweepTally t = write_sweep_csv(spec);
-  if (!quiet || t.failed)
-    std::fprintf(stderr, "fretbem sweep: %d ok, %d failed, %d not run of %zu; %s\n", t.ok, t.failed,
-                 t.missing, spec.members.size(), (spec.out / "sweep.csv").c_str());
-  return t.failed ? kExitFailed : 0;
+  if (!quiet || t.ok != int(spec.members.size()))
+    std::fprintf(stderr,
+                 "fretbem sweep: %d ok, %d failed, %d running (in another process, or killed "
+                 "while running), %d not run of %zu; %s\n",
+                 t.ok, t.failed, t.running, t.missing, spec.members.size(),
+                 (spec.out / "sweep.csv").c_str());
+  return t;
+}
+
+// A study that ran its members succeeds only when every one of them is ok: a member left to
+// another process (a run orphaned by a study killed outright, another study of the folder) has
+// no result yet, and a script that reads exit 0 as "sweep.csv is complete" would go on without it.
+int study_exit_code(const SweepSpec& spec, const SweepTally& t) {
+  return t.ok == int(spec.members.size()) ? 0 : kExitFailed;
 }
 
 std::vector<std::size_t> one_member(const SweepSpec& spec, long k) {
   if (k < 0 || std::size_t(k) >= spec.members.size())
     throw InputError("--member " + std::to_string(k) + ": the study has members 0.." +
                      std::to_string(spec.members.size() - 1));
-  if (member_complete(spec, std::size_t(k))) return {};
+  if (member_complete(spec.study_members(), std::size_t(k))) return {};
   return {std::size_t(k)};
 }
 
@@ -88,12 +100,14 @@ void report_grids(const SweepSpec& spec) {
 // --list, --aggregate or --member K.
 int one_process_command(const SweepCommand& cmd, const SweepSpec& spec) {
   if (cmd.list) return print_member_commands(cmd, spec), 0;
-  if (cmd.aggregate) return aggregate(spec, cmd.options.quiet);
+  // --aggregate reports what has finished so far: only failed members make it unsuccessful.
+  if (cmd.aggregate) return aggregate(spec, cmd.options.quiet).failed ? kExitFailed : 0;
   create_output_folder(spec.out);
   install_stop_signal_handlers();
+  const StudyMembers members = spec.study_members();
   auto queue = make_local_queue(one_member(spec, cmd.member));
-  if (!run_sweep_members(spec, *queue, cmd.options)) return kExitStopped;
-  return member_complete(spec, std::size_t(cmd.member)) ? 0 : kExitFailed;
+  if (!run_study_members(members, *queue, cmd.options)) return kExitStopped;
+  return member_complete(members, std::size_t(cmd.member)) ? 0 : kExitFailed;
 }
 
 }  // namespace
@@ -114,11 +128,12 @@ int run_sweep_command(const SweepCommand& c) {
   }
   create_output_folder(spec.out);
   install_stop_signal_handlers();
+  const StudyMembers members = spec.study_members();
   if (!mpi_launched()) {
     if (!cmd.options.quiet) report_grids(spec);
-    auto queue = make_local_queue(pending_members(spec));
-    const bool finished = run_sweep_members(spec, *queue, cmd.options);
-    const int rc = aggregate(spec, cmd.options.quiet);
+    auto queue = make_local_queue(pending_members(members));
+    const bool finished = run_study_members(members, *queue, cmd.options);
+    const int rc = study_exit_code(spec, aggregate(spec, cmd.options.quiet));
     return finished ? rc : kExitStopped;
   }
   MpiSession mpi;
@@ -126,10 +141,10 @@ int run_sweep_command(const SweepCommand& c) {
   if (!cmd.options.quiet && mpi.rank() == 0) report_grids(spec);
   // Only rank 0 decides what is pending: the others must not race it reading status files.
   auto queue =
-      make_mpi_queue(mpi, mpi.rank() == 0 ? pending_members(spec) : std::vector<std::size_t>{});
-  const bool finished = run_sweep_members(spec, *queue, cmd.options);
+      make_mpi_queue(mpi, mpi.rank() == 0 ? pending_members(members) : std::vector<std::size_t>{});
+  const bool finished = run_study_members(members, *queue, cmd.options);
   mpi.barrier();
-  const int rc = mpi.rank() == 0 ? aggregate(spec, cmd.options.quiet) : 0;
+  const int rc = mpi.rank() == 0 ? study_exit_code(spec, aggregate(spec, cmd.options.quiet)) : 0;
   return finished ? rc : kExitStopped;
 }
 

@@ -9,7 +9,7 @@
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/text_file.hpp"
-#include "fretbem/study/sweep_runner.hpp"
+#include "fretbem/study/member_status.hpp"
 
 namespace fretbem {
 
@@ -55,14 +55,6 @@ std::string quoted(const std::string& text) {
   return q + "\"";
 }
 
-std::string status_word(const MemberStatus& st, bool complete) {
-  if (complete) return "ok";
-  if (!st.present) return "missing";
-  if (member_running(st)) return "running";
-  if (member_stopped(st)) return "interrupted";
-  return st.exit_code == 0 ? "missing" : "failed";
-}
-
 // The member's grid and its predicted slip ring (study/member_grid.hpp): which members the
 // study refined, and which stay under-resolved and by how much.
 void write_grid(std::ostream& out, const MemberGrid& g) {
@@ -82,14 +74,15 @@ SweepTally write_sweep_csv(const SweepSpec& spec) {
   std::vector<Row> rows;
   std::vector<std::string> columns;  // summary columns in order of first appearance
   SweepTally tally;
+  const StudyMembers members = spec.study_members();
   for (std::size_t k = 0; k < spec.members.size(); ++k) {
-    const fs::path dir = spec.out / spec.member_dir(k);
+    const fs::path dir = members.path(k);
     Row r{read_member_status(dir), "", {}};
-    const bool complete = member_complete(spec, k);
-    r.word = status_word(r.status, complete);
+    const bool complete = member_complete(members, k);
+    r.word = member_status_word(r.status, complete);
     if (complete) r.summary = member_summary(dir);
-    tally.ok += complete, tally.failed += r.word == "failed";
-    tally.missing += r.word != "ok" && r.word != "failed";
+    tally.ok += complete, tally.failed += r.word == "failed", tally.running += r.word == "running";
+    tally.missing += r.word == "missing" || r.word == "interrupted";
     for (const auto& [name, v] : r.summary)
       if (std::find(columns.begin(), columns.end(), name) == columns.end()) columns.push_back(name);
     rows.push_back(std::move(r));

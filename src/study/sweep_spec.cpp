@@ -222,6 +222,14 @@ fs::path SweepSpec::member_dir(std::size_t k) const {
   return name;
 }
 
+StudyMembers SweepSpec::study_members() const {
+  StudyMembers m;
+  m.scenario = scenario, m.out = out, m.defaults = {"solver.threads=1"}, m.count = members.size();
+  m.dir = [this](std::size_t k) { return member_dir(k); };
+  m.sets = [this](std::size_t k) { return member_sets(k); };
+  return m;
+}
+
 SweepSpec load_sweep_spec(const fs::path& file, const std::vector<std::string>& extra_sets,
                           const fs::path& out) {
   const StudyFile f = read_study_file(file);

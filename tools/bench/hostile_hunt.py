@@ -242,8 +242,9 @@ def cases(build):
     add("ensemble", "out is a file", ens + ["--hurst", "0.5", "--seeds", "1", "--out", "@W/f"],
         expect=2, setup=lambda w: write(os.path.join(w, "f"), "x"))
     add("ensemble", "out empty string", ens + ["--hurst", "0.5", "--out", ""], expect=2)
+    # A re-run into an ensemble's folder continues it (docs/paper-reproduction.md).
     add("ensemble", "out holds an ensemble",
-        ens + ["--hurst", "0.5", "--seeds", "1", "--out", "@W/e"], expect=2,
+        ens + ["--hurst", "0.5", "--seeds", "1", "--out", "@W/e"], expect=0,
         setup=lambda w: write(os.path.join(w, "e", "members.csv"), "x\n"))
     add("ensemble", "missing scenario", [fb, "ensemble", "/nonexistent.ini", "--hurst", "0.5"],
         expect=2)

@@ -1,4 +1,4 @@
-// Ensemble runs (issue 5): one scenario over Hurst exponents x seeds, members as independent
+// Ensemble runs: one scenario over Hurst exponents x seeds, members as independent
 // `fretbem run` processes (single-threaded FFTs each), then an aggregate of the paper's
 // normalised curves (Figs. 2–4) per H and bin of F_x/(mu F_z): mean and Student-t 95 % interval.
 #pragma once
@@ -19,11 +19,14 @@ struct EnsembleOptions {
   std::filesystem::path out;
   std::filesystem::path binary;  ///< the fretbem executable members run (default: this one)
   bool quiet = false;
-  bool overwrite = false;  ///< replace an earlier ensemble's results in `out` (members too)
+  /// Run every member afresh; without it a re-run into `out` continues the ensemble there:
+  /// complete members are kept, stopped ones continue from their checkpoint, failed and
+  /// missing ones run again (as `fretbem sweep`).
+  bool overwrite = false;
 };
 
 /// Largest --bins: an aggregate row per bin and H; 10^4 bins already resolve F_x/(mu F_z)
-/// far below any member's load step (10^8 bins wrote a 17 GB file, issue 14 item 9).
+/// far below any member's load step (10^8 bins would write a 17 GB file).
 constexpr int kMaxBins = 10000;
 /// Largest --seeds (surface.seed = 1..seeds): --seeds 2147483647 looped forever (the seed
 /// counter overflowed) while the member list grew.
@@ -56,10 +59,12 @@ MeanCi mean_ci95(const std::vector<double>& v);
 /// run_ensemble's result when SIGTERM or SIGINT stopped it.
 constexpr int kEnsembleStopped = -1;
 
-/// Runs every member, writes DIR/members.csv and DIR/aggregate.csv; returns the number of
-/// failed members (each reported on stderr), or kEnsembleStopped when a signal ended the
-/// running members (members.csv and aggregate.csv are still written, of the finished members;
-/// members never started have exit code -1). Throws InputError on bad options.
+/// Runs the members that are not complete (study/member_pool.hpp), writes DIR/members.csv and
+/// DIR/aggregate.csv; returns the number of members not ok (failed, each reported on stderr,
+/// or left to a run of an earlier, killed ensemble that still writes into it), or
+/// kEnsembleStopped when a signal ended the running members (members.csv and aggregate.csv are
+/// still written, of the finished members; members never started have exit code -1). Throws
+/// InputError on bad options.
 int run_ensemble(const EnsembleOptions& opt);
 
 }  // namespace fretbem

@@ -1,4 +1,4 @@
-// Sweeps over MPI ranks (issue 15, built with -DFRETBEM_MPI=ON): dynamic load balancing by
+// Sweeps over MPI ranks (built with -DFRETBEM_MPI=ON): dynamic load balancing by
 // request. Rank 0 keeps the list of pending members and runs members itself; every other rank
 // asks rank 0 for one member index whenever it has a free slot, so a rank that drew cheap
 // members simply asks more often. Results travel through the members' status files (a shared
@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "fretbem/study/sweep_runner.hpp"
+#include "fretbem/study/member_pool.hpp"
 
 namespace fretbem {
 

@@ -1,4 +1,4 @@
-// A parameter study (issue 15): a base scenario, fixed overrides and the keys to vary, read from
+// A parameter study: a base scenario, fixed overrides and the keys to vary, read from
 // a study file. The members are the Cartesian product (or the zip) of the varied values; each
 // member is the base scenario with `--set key=value` overrides.
 //
@@ -18,6 +18,8 @@
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "fretbem/study/study_members.hpp"
 
 namespace fretbem {
 
@@ -62,6 +64,10 @@ struct SweepSpec {
 
   /// Directory of member k below `out`: member_0007 (zero-padded to the member count's width).
   std::filesystem::path member_dir(std::size_t k) const;
+
+  /// The members as the study's pool runs them (solver.threads=1 before each member's sets);
+  /// refers to this spec, which must outlive it.
+  StudyMembers study_members() const;
 };
 
 /// Values of one [vary] entry: "a, b, c", "linear(a, b, n)" or "log(a, b, n)". Numbers are

@@ -1,8 +1,9 @@
-// One run at a time per output folder: an exclusive advisory lock (flock) on DIR/.fretbem.lock,
-// held for the life of the process (the kernel releases it on any exit, SIGKILL included).
-// Two runs started into one --out at the same moment both passed the "holds results" check
-// and wrote into each other's files (issue 14 session 4: the second truncated the first's
-// timeseries.csv and removed its checkpoint with --overwrite).
+// One writer per output folder: an exclusive advisory lock (flock) on DIR/.fretbem.lock, held
+// for the life of the object (the kernel releases it on any exit, SIGKILL included). Without
+// it two runs started into one --out at the same moment both pass the "holds results" check and
+// write into each other's files (the second truncates the first's timeseries.csv). Only core
+// chores underneath: runs (cli) and ensembles (study) take it, and a study's member pool tests
+// it to see whether a member's own run still lives.
 #pragma once
 
 #include <filesystem>

@@ -1,4 +1,4 @@
-#include "fretbem/io/output_lock.hpp"
+#include "fretbem/core/output_lock.hpp"
 
 #include <string>
 
