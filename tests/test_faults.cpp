@@ -736,8 +736,8 @@ std::map<std::string, std::string> folder_bytes(const fs::path& dir) {
 }
 
 // A run with --overwrite that fails before its first checkpoint leaves the results it was to
-// replace as they were, byte for byte (it emptied them: header-only CSVs, no checkpoint, a
-// new near-empty result.h5): refused at step 0 for a contact on the grid edge (exit 2), or a
+// replace as they were, byte for byte (not header-only CSVs, no checkpoint and a near-empty
+// result.h5): refused at step 0 for a contact on the grid edge (exit 2), or a
 // normal solve that fails at step 0 (exit 3). A stopped run so kept still resumes.
 TEST_F(Faults, FailedOverwriteKeepsTheResultsItReplaces) {
   const fs::path ref = light(), d = dir_ / "kept";
@@ -802,8 +802,8 @@ TEST_F(Faults, KilledOverwriteIsSettledByTheNextRun) {
 }
 
 // A blank, whitespace or comment line among the finished rows of timeseries.csv is refused
-// by --resume with the file and line named, before anything is written (it dropped one
-// finished row per such line: 192 rows of 193, exit 0).
+// by --resume with the file and line named, before anything is written: kept by line count,
+// the rows would lose one finished row per such line.
 TEST_F(Faults, ResumeRefusesLinesWithoutDataAmongFinishedRows) {
   const fs::path d = dir_ / "lines", ts = d / "timeseries.csv";
   ASSERT_EQ(run("run " + kScenario + kLight + " --stop-after 100 --out " + d.string(), dir_).code,
@@ -825,8 +825,8 @@ TEST_F(Faults, ResumeRefusesLinesWithoutDataAmongFinishedRows) {
   expect_same_rows(light(), d);
 }
 
-// Every file a resume reads or appends must be a regular file: a FIFO blocked the resume in
-// open() (a SIGTERM did not end it), a folder failed it with a message naming no file. Both
+// Every file a resume reads or appends must be a regular file: a FIFO would block the resume
+// in open() (past a SIGTERM), a folder would fail it with a message naming no file. Both
 // are refused with one line naming the file, exit 2. `timeout` only ends the blocked open of
 // a binary without the check; it plays no part when the check is there.
 TEST_F(Faults, ResumeRefusesRunFilesThatAreNotRegularFiles) {
@@ -851,8 +851,7 @@ TEST_F(Faults, ResumeRefusesRunFilesThatAreNotRegularFiles) {
 }
 
 // The root folder and the home folder are never one run's folder (`--out "$OUT/"` with OUT
-// unset): refused with the folder named, nothing written there (a run wrote its results into
-// /, exit 0).
+// unset): refused with the folder named, nothing written there.
 TEST_F(Faults, RootAndHomeAreNotOutputFolders) {
   const std::string normal_only = kScenario + " --quiet --set grid.n=8 --set load.path=none";
   Result r = run("run " + normal_only + " --out /", dir_);
