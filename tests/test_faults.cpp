@@ -8,6 +8,7 @@
 #include <signal.h>
 #include <sys/file.h>
 #include <sys/mount.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <random>
 #include <sstream>
 #include <string>
@@ -25,6 +27,7 @@
 #include <vector>
 
 #include "fretbem/io/checkpoint.hpp"
+#include "support/child_process.hpp"
 
 namespace fs = std::filesystem;
 
@@ -38,14 +41,17 @@ const std::string kQuick =
     " --quiet --set grid.n=16 --set output.fields=pressure --set output.fields_every=1"
     " --set output.checkpoint_every=1";
 
+const std::string kLight = " --quiet --set grid.n=16";
+
 struct Result {
   int code = -1;  ///< exit code, or 128 + signal
   std::string err;
 };
 
-Result run(const std::string& args, const fs::path& scratch) {
+Result run(const std::string& args, const fs::path& scratch, const std::string& wrapper = "") {
   const fs::path errfile = scratch / "stderr.txt";
-  const int st = std::system((kBin + " " + args + " > /dev/null 2> " + errfile.string()).c_str());
+  const int st =
+      std::system((wrapper + kBin + " " + args + " > /dev/null 2> " + errfile.string()).c_str());
   Result r;
   r.code = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
   std::ifstream in(errfile);
@@ -111,6 +117,15 @@ class Faults : public ::testing::Test {
     const fs::path f = dir_ / "full";
     if (!fs::exists(f)) {
       EXPECT_EQ(run("run " + kScenario + kQuick + " --out " + f.string(), dir_).code, 0);
+    }
+    return f;
+  }
+  // The same run without fields and per-step checkpoints (their fsyncs dominate a loaded
+  // machine): the rows are those of full().
+  fs::path light() {
+    const fs::path f = dir_ / "light";
+    if (!fs::exists(f)) {
+      EXPECT_EQ(run("run " + kScenario + kLight + " --out " + f.string(), dir_).code, 0);
     }
     return f;
   }
@@ -236,10 +251,11 @@ TEST_F(Faults, KillAtRandomPointsResumes) {
             "output.checkpoint_every=1", "--out", out.c_str(), static_cast<char*>(nullptr));
       _exit(127);
     }
-    for (int i = 0; i < 4000 && rows_of(part / "timeseries.csv").size() < at + 1; ++i)
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    kill(pid, SIGKILL);
     int status = 0;
+    ASSERT_TRUE(fretbem_test::wait_until(
+        pid, [&] { return rows_of(part / "timeseries.csv").size() >= at + 1; }, &status))
+        << "the run ended before row " << at;
+    kill(pid, SIGKILL);
     waitpid(pid, &status, 0);
     ASSERT_TRUE(fs::exists(part / "checkpoint.h5")) << "kill after " << at << " rows";
     const Result r = run("run --resume " + out + " --quiet", dir_);
@@ -257,33 +273,32 @@ TEST_F(Faults, KillAtRandomPointsResumes) {
   }
 }
 
-// SIGTERM (Slurm at a time limit) and SIGINT (Ctrl-C) stop a run at the next step with its
-// checkpoint written: exit 128 + signal, one line on stderr saying how to continue, and
-// --resume gives the uninterrupted run's rows.
+// SIGTERM (Slurm at a time limit) and SIGINT (Ctrl-C) stop a run after the step in progress
+// with its checkpoint written: exit 128 + signal, one line on stderr saying how to continue,
+// and --resume gives the uninterrupted run's rows. The signal is pending when the run starts
+// (its step 0, the normal loading, still runs: a checkpoint before it holds nothing to
+// resume), and when a resume of 40 finished steps (--stop-after) starts: both stop points are
+// exact, whatever the machine's load.
 TEST_F(Faults, SignalStopsRunWithCheckpoint) {
-  const fs::path ref = full();
+  const fs::path ref = light();
   for (const int sig : {SIGTERM, SIGINT}) {
     const fs::path part = dir_ / ("signal" + std::to_string(sig)), err = dir_ / "signal.err";
-    const pid_t pid = fork();
-    if (pid == 0) {
-      const std::string cmd = "exec " + kBin + " run " + kScenario + kQuick + " --out " +
-                              part.string() + " > /dev/null 2> " + err.string();
-      execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-      _exit(127);
-    }
-    for (int i = 0; i < 4000 && rows_of(part / "timeseries.csv").size() < 40; ++i)
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    kill(pid, sig);
-    int status = 0;
-    waitpid(pid, &status, 0);
-    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-    const std::string text = slurp(err);
-    // Signalled at row 40 of 193, polled every 2 ms: the run cannot have ended first.
-    ASSERT_EQ(WEXITSTATUS(status), 128 + sig) << text;
-    EXPECT_NE(text.find(sig == SIGTERM ? "stopped by SIGTERM" : "stopped by SIGINT"),
-              std::string::npos)
-        << text;
-    EXPECT_NE(text.find("--resume " + part.string()), std::string::npos) << text;
+    const auto stop = [&](std::vector<std::string> args, const std::string& where) {
+      args.insert(args.begin(), kBin);
+      const int code = fretbem_test::wait_exit(
+          fretbem_test::spawn_with_pending_signal(sig, args, dir_ / "signal.out", err));
+      const std::string text = slurp(err);
+      EXPECT_EQ(code, 128 + sig) << text;
+      EXPECT_NE(text.find(std::string(sig == SIGTERM ? "stopped by SIGTERM" : "stopped by SIGINT") +
+                          " after " + where),
+                std::string::npos)
+          << text;
+      EXPECT_NE(text.find("--resume " + part.string()), std::string::npos) << text;
+    };
+    stop({"run", kScenario, "--quiet", "--set", "grid.n=16", "--out", part.string()},
+         "1 of 193 steps");
+    ASSERT_EQ(run("run --resume " + part.string() + " --quiet --stop-after 39", dir_).code, 0);
+    stop({"run", "--resume", part.string(), "--quiet"}, "40 of 193 steps");
     ASSERT_EQ(run("run --resume " + part.string() + " --quiet", dir_).code, 0);
     expect_same_rows(ref, part);
   }
@@ -630,12 +645,11 @@ TEST_F(Faults, EnsembleSigtermKeepsFinishedMembers) {
     _exit(127);
   }
   // Members run one at a time: the second one's directory appears when the first has ended.
-  const auto t0 = std::chrono::steady_clock::now();
-  while (!fs::exists(out / "H0.5" / "seed_001" / "log.txt") &&
-         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(120))
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  kill(pid, SIGTERM);
   int status = 0;
+  ASSERT_TRUE(fretbem_test::wait_until(
+      pid, [&] { return fs::exists(out / "H0.5" / "seed_001" / "log.txt"); }, &status))
+      << slurp(dir_ / "ensemble.err");
+  kill(pid, SIGTERM);
   waitpid(pid, &status, 0);
   ASSERT_TRUE(WIFEXITED(status)) << "signal " << WTERMSIG(status) << slurp(dir_ / "ensemble.err");
   EXPECT_EQ(WEXITSTATUS(status), 143) << slurp(dir_ / "ensemble.err");
@@ -711,4 +725,150 @@ TEST_F(Faults, TimeseriesIsByteIdenticalAcrossRunsAndThreads) {
   EXPECT_FALSE(a.empty());
   EXPECT_EQ(a, slurp(dir_ / "b" / "timeseries.csv"));
   EXPECT_EQ(a, slurp(dir_ / "c" / "timeseries.csv"));
+}
+
+// Every file of a run folder, by name, with its bytes.
+std::map<std::string, std::string> folder_bytes(const fs::path& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::directory_iterator(dir))
+    out[e.path().filename().string()] = e.is_regular_file() ? slurp(e.path()) : "(not a file)";
+  return out;
+}
+
+// A run with --overwrite that fails before its first checkpoint leaves the results it was to
+// replace as they were, byte for byte (not header-only CSVs, no checkpoint and a near-empty
+// result.h5): refused at step 0 for a contact on the grid edge (exit 2), or a
+// normal solve that fails at step 0 (exit 3). A stopped run so kept still resumes.
+TEST_F(Faults, FailedOverwriteKeepsTheResultsItReplaces) {
+  const fs::path ref = light(), d = dir_ / "kept";
+  ASSERT_EQ(run("run " + kScenario + kLight + " --stop-after 50 --out " + d.string(), dir_).code,
+            0);
+  const auto before = folder_bytes(d);
+  const std::string again = "run " + kScenario + kLight + " --overwrite --out " + d.string();
+  Result r = run(again + " --set load.normal_force=2000", dir_);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("step 0: "), std::string::npos) << r.err;
+  EXPECT_TRUE(folder_bytes(d) == before);
+  r = run(again + " --set solver.max_iterations=1", dir_);
+  EXPECT_EQ(r.code, 3) << r.err;
+  auto after = folder_bytes(d);
+  EXPECT_EQ(after.erase("failed_solve.h5"), 1u);  // the failed run's report, named in its error
+  EXPECT_TRUE(after == before);
+  ASSERT_EQ(run("run --resume " + d.string() + " --quiet", dir_).code, 0);
+  expect_same_rows(ref, d);
+  // A run that reaches its checkpoint replaces them: no set-aside folder is left.
+  ASSERT_EQ(run(again + " --stop-after 1", dir_).code, 0);
+  EXPECT_EQ(rows_of(d / "timeseries.csv").size(), 2u);
+  EXPECT_FALSE(fs::exists(d / ".fretbem-replaced"));
+}
+
+// A run with --overwrite killed (SIGKILL) while setting the old results aside, or before its
+// first checkpoint, or after it: the next run or resume in the folder finds the states such
+// a kill leaves (replaced_results.hpp) and keeps one run's files, never a mix.
+TEST_F(Faults, KilledOverwriteIsSettledByTheNextRun) {
+  const fs::path ref = light(), d = dir_ / "settle";
+  const std::string stopped = "run " + kScenario + kLight + " --stop-after 50 --out " + d.string();
+  ASSERT_EQ(run(stopped, dir_).code, 0);
+  const auto old = folder_bytes(d);
+  // Killed while moving: two files already aside, the rest still in the folder.
+  fs::create_directory(d / ".fretbem-replacing");
+  for (const char* f : {"checkpoint.h5", "result.h5"})
+    fs::rename(d / f, d / ".fretbem-replacing" / f);
+  Result r = run("run " + kScenario + kLight + " --out " + d.string(), dir_);
+  EXPECT_EQ(r.code, 2) << r.err;  // the old results are back, and not overwritten unasked
+  EXPECT_NE(r.err.find("holds the results of another run"), std::string::npos) << r.err;
+  EXPECT_TRUE(folder_bytes(d) == old);
+  // Killed during the new run's step 0: all old files aside, the new run's first files here.
+  fs::create_directory(d / ".fretbem-replaced");
+  for (const auto& [name, bytes] : old)
+    if (name != ".fretbem.lock") fs::rename(d / name, d / ".fretbem-replaced" / name);
+  std::ofstream(d / "timeseries.csv") << rows_of(ref / "timeseries.csv")[0][0] << "\n";
+  std::ofstream(d / "result.h5") << "torn";
+  r = run("run --resume " + d.string() + " --quiet", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("are put back"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / ".fretbem-replaced"));
+  expect_same_rows(ref, d);
+  // Killed after the new run's first checkpoint: the new run is the one kept.
+  ASSERT_EQ(
+      run("run " + kScenario + kLight + " --stop-after 3 --overwrite --out " + d.string(), dir_)
+          .code,
+      0);
+  fs::create_directory(d / ".fretbem-replaced");
+  std::ofstream(d / ".fretbem-replaced" / "timeseries.csv") << "an older run's\n";
+  ASSERT_EQ(run("run --resume " + d.string() + " --quiet", dir_).code, 0);
+  EXPECT_FALSE(fs::exists(d / ".fretbem-replaced"));
+  expect_same_rows(ref, d);
+}
+
+// A blank, whitespace or comment line among the finished rows of timeseries.csv is refused
+// by --resume with the file and line named, before anything is written: kept by line count,
+// the rows would lose one finished row per such line.
+TEST_F(Faults, ResumeRefusesLinesWithoutDataAmongFinishedRows) {
+  const fs::path d = dir_ / "lines", ts = d / "timeseries.csv";
+  ASSERT_EQ(run("run " + kScenario + kLight + " --stop-after 100 --out " + d.string(), dir_).code,
+            0);
+  const std::string good = slurp(ts);
+  std::string::size_type at = 0;
+  for (int line = 1; line < 50; ++line) at = good.find('\n', at) + 1;  // start of line 50
+  for (const std::string extra : {"\n", "  \t\n", "# a note\n"}) {
+    std::ofstream(ts, std::ios::binary) << good.substr(0, at) + extra + good.substr(at);
+    const auto before = folder_bytes(d);
+    const Result r = run("run --resume " + d.string() + " --quiet", dir_);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(ts.string() + ":50: "), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_TRUE(folder_bytes(d) == before);
+  }
+  std::ofstream(ts, std::ios::binary) << good;
+  ASSERT_EQ(run("run --resume " + d.string() + " --quiet", dir_).code, 0);
+  expect_same_rows(light(), d);
+}
+
+// Every file a resume reads or appends must be a regular file: a FIFO would block the resume
+// in open() (past a SIGTERM), a folder would fail it with a message naming no file. Both
+// are refused with one line naming the file, exit 2. `timeout` only ends the blocked open of
+// a binary without the check; it plays no part when the check is there.
+TEST_F(Faults, ResumeRefusesRunFilesThatAreNotRegularFiles) {
+  const fs::path d = dir_ / "special";
+  ASSERT_EQ(run("run " + kScenario + kLight + " --stop-after 20 --out " + d.string(), dir_).code,
+            0);
+  fs::rename(d / "cycles.csv", dir_ / "cycles.csv");
+  for (const std::string kind : {"FIFO", "folder"}) {
+    if (kind == "FIFO")
+      ASSERT_EQ(::mkfifo((d / "cycles.csv").c_str(), 0644), 0);
+    else
+      fs::create_directory(d / "cycles.csv");
+    const Result r = run("run --resume " + d.string() + " --quiet", dir_, "timeout 300 ");
+    EXPECT_EQ(r.code, 2) << kind << ": " << r.err;
+    EXPECT_NE(r.err.find((d / "cycles.csv").string() + ": is a " + kind), std::string::npos)
+        << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    fs::remove(d / "cycles.csv");
+  }
+  fs::rename(dir_ / "cycles.csv", d / "cycles.csv");
+  EXPECT_EQ(run("run --resume " + d.string() + " --quiet", dir_).code, 0);
+}
+
+// The root folder and the home folder are never one run's folder (`--out "$OUT/"` with OUT
+// unset): refused with the folder named, nothing written there.
+TEST_F(Faults, RootAndHomeAreNotOutputFolders) {
+  const std::string normal_only = kScenario + " --quiet --set grid.n=8 --set load.path=none";
+  Result r = run("run " + normal_only + " --out /", dir_);
+  const bool wrote = fs::exists("/timeseries.csv");
+  for (const char* f : {"timeseries.csv", "cycles.csv", "result.h5", "checkpoint.h5", "result.xmf",
+                        ".fretbem.lock"})
+    if (wrote) fs::remove(fs::path("/") / f);  // undo what a binary without the check wrote
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_FALSE(wrote);
+  EXPECT_EQ(r.err.rfind("fretbem: error: /: the root folder", 0), 0u) << r.err;
+  const fs::path home = dir_ / "home";
+  fs::create_directories(home);
+  const int st = std::system(("HOME=" + home.string() + " " + kBin + " run " + normal_only +
+                              " --out " + home.string() + "/ 2> " + (dir_ / "home.err").string())
+                                 .c_str());
+  EXPECT_EQ(WEXITSTATUS(st), 2);
+  EXPECT_NE(slurp(dir_ / "home.err").find(home.string() + "/: the home folder"), std::string::npos)
+      << slurp(dir_ / "home.err");
+  EXPECT_TRUE(fs::is_empty(home));
 }

@@ -7,13 +7,16 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <thread>
 
 #include "fretbem/elastic/fft_wisdom.hpp"
 #include "fretbem/elastic/half_space.hpp"
 #include "fretbem/scenario/scenario.hpp"
+#include "support/child_process.hpp"
 
 namespace fretbem {
 namespace {
@@ -64,22 +67,38 @@ TEST(FftWisdom, AutoMeasuresOnlyWhereWisdomIsKept) {
   fs::remove_all(dir);
 }
 
+// Whether /proc/locks lists a flock request of process `pid` that waits (a "->" entry): the
+// kernel's own word that the process is blocked on a lock.
+bool waits_for_flock(pid_t pid) {
+  std::ifstream in("/proc/locks");
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string index, arrow, kind, mode, access, who;
+    words >> index >> arrow >> kind >> mode >> access >> who;
+    if (arrow == "->" && kind == "FLOCK" && who == std::to_string(pid)) return true;
+  }
+  return false;
+}
+
 // A process that needs a measured plan its wisdom file lacks waits while another holds the
 // file's lock (the holder measures), then plans: it neither measures alongside nor fails. The
 // lock is held by a child: a lock taken in this process would be inherited by the forked
-// planner (flock belongs to the open file, which fork shares) and never released for it.
+// planner (flock belongs to the open file, which fork shares) and never released for it. The
+// holder lets go only once the kernel lists the planner as waiting for the lock.
 TEST(FftWisdom, MeasuringWaitsForTheProcessThatHoldsTheLock) {
   const fs::path dir = fresh_folder("fretbem_wisdom_lock");
   const WisdomFile w((dir / "wisdom").string());
-  int ready[2];
+  int ready[2], release[2];
   ASSERT_EQ(::pipe(ready), 0);
+  ASSERT_EQ(::pipe(release), 0);
   const pid_t holder = ::fork();
   ASSERT_GE(holder, 0);
   if (holder == 0) {
     const std::optional<FileLock> held = fft_wisdom::lock(FftPrecision::float64);
-    const char c = held ? 'y' : 'n';
+    char c = held ? 'y' : 'n';
     if (::write(ready[1], &c, 1) != 1) std::_Exit(4);
-    std::this_thread::sleep_for(std::chrono::milliseconds(2000));  // margin for a loaded CI
+    if (::read(release[0], &c, 1) != 1) std::_Exit(5);
     std::_Exit(0);
   }
   char c = 0;
@@ -97,14 +116,18 @@ TEST(FftWisdom, MeasuringWaitsForTheProcessThatHoldsTheLock) {
     hs.normal(p, u);
     std::_Exit(u.allFinite() && fs::exists(dir / "wisdom") ? 0 : 3);
   }
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
   int status = 0;
-  EXPECT_EQ(::waitpid(planner, &status, WNOHANG), 0) << "planned while the lock was held";
-  ASSERT_EQ(::waitpid(holder, &status, 0), holder);
-  ASSERT_EQ(::waitpid(planner, &status, 0), planner);
+  const bool waited = fretbem_test::wait_until(
+      planner, [&] { return waits_for_flock(planner); }, &status);
+  EXPECT_TRUE(waited) << "planned while the lock was held";
+  if (::write(release[1], "r", 1) != 1) ADD_FAILURE() << "cannot release the holder";
+  ASSERT_EQ(::waitpid(holder, nullptr, 0), holder);
+  if (waited) {
+    ASSERT_EQ(::waitpid(planner, &status, 0), planner);
+  }
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0);
-  ::close(ready[0]), ::close(ready[1]);
+  for (int fd : {ready[0], ready[1], release[0], release[1]}) ::close(fd);
   fs::remove_all(dir);
 }
 

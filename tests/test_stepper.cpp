@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "fretbem/io/checkpoint.hpp"
+#include "support/child_process.hpp"
 #include "support/hertz.hpp"
 
 using namespace fretbem;
@@ -353,10 +354,10 @@ TEST(Resume, KilledRunResumes) {
     _exit(127);
   }
   // Kill once a few steps are done (a checkpoint exists), well before the end.
-  for (int i = 0; i < 2000 && read_csv(part / "timeseries.csv").size() < 20; ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  kill(pid, SIGKILL);
   int status = 0;
+  ASSERT_TRUE(fretbem_test::wait_until(
+      pid, [&] { return read_csv(part / "timeseries.csv").size() >= 20; }, &status));
+  kill(pid, SIGKILL);
   waitpid(pid, &status, 0);
   const auto rows = read_csv(part / "timeseries.csv");
   ASSERT_GE(rows.size(), 2u);

@@ -11,6 +11,7 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/resources.hpp"
 #include "fretbem/study/sweep_spec.hpp"
+#include "support/child_process.hpp"
 #include "sweep_test_util.hpp"
 
 using namespace fretbem;
@@ -177,13 +178,16 @@ TEST(SweepRun, SigtermThenRerunRunsOnlyTheMissingMembers) {
     _exit(127);
   }
   // Wait for two finished members (status written at the start says running), then stop.
-  const auto t0 = std::chrono::steady_clock::now();
-  while (slurp(out / "member_0001" / "sweep_member.txt").find("exit_code=0\n") ==
-             std::string::npos &&
-         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  kill(pid, SIGTERM);
   int status = 0;
+  ASSERT_TRUE(fretbem_test::wait_until(
+      pid,
+      [&] {
+        return slurp(out / "member_0001" / "sweep_member.txt").find("exit_code=0\n") !=
+               std::string::npos;
+      },
+      &status))
+      << slurp(d / "first.err");
+  kill(pid, SIGTERM);
   waitpid(pid, &status, 0);
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 143) << slurp(d / "first.err");

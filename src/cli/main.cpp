@@ -28,6 +28,7 @@
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/failed_solve.hpp"
+#include "fretbem/io/replaced_results.hpp"
 #include "fretbem/io/resolution_report.hpp"
 #include "fretbem/io/result_recovery.hpp"
 #include "fretbem/io/resume_check.hpp"
@@ -207,8 +208,15 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
       resolution.on_step(r, stepper.state(), model);
   std::vector<Observer*> obs{&csv, &h5, &cycles, &checkpoint, &resolution};
   if (!quiet) obs.push_back(&progress);
-  const std::size_t budget = a.stop_after > 0 ? std::size_t(a.stop_after) : SIZE_MAX;
-  stepper.run(obs, budget, stop_requested);
+  std::size_t budget = a.stop_after > 0 ? std::size_t(a.stop_after) : SIZE_MAX;
+  // Step 0 (the normal loading) runs even when a stop was requested before it: a checkpoint
+  // without it holds no step to resume after (next_step = 0 is refused). A run replacing
+  // another's results keeps those until it has this checkpoint (replaced_results.hpp).
+  if (stepper.memory().next_step == 0) {
+    budget -= stepper.run(obs, 1);
+    if (replacing_results(dir)) save_checkpoint(dir, model, stepper);
+  }
+  if (stepper.memory().next_step < stepper.steps()) stepper.run(obs, budget, stop_requested);
   if (stepper.memory().next_step < stepper.steps()) {
     save_checkpoint(dir, model, stepper);
     h5.write_xdmf();
@@ -242,6 +250,8 @@ int resume_run(const Args& a) {
   if (!std::filesystem::is_directory(dir, ec))
     throw InputError(dir.string() + ": not a folder of a run to resume");
   const OutputLock lock(dir);
+  warn_if_any(settle_replaced_results(dir));
+  check_output_files(dir);
   const Checkpoint cp = load_checkpoint(dir);
   Scenario sc = parse_scenario(cp.scenario_text, (dir / "checkpoint.h5").string(), ".", {});
   set_output_dir(sc, dir);
@@ -250,6 +260,8 @@ int resume_run(const Args& a) {
   model->run_id = cp.run_id;
   if (model->wear) {
     if (!cp.wear) throw InputError((dir / "checkpoint.h5").string() + ": not a wear run's");
+    check_finished_rows(dir / "timeseries.csv", std::size_t(cp.wear->counters.rows));
+    check_finished_rows(dir / "cycles.csv", std::size_t(cp.wear->cycles_rows));
     warn_if_any(prepare_result_for_resume(
         dir, *model, cp.run_id,
         {.rows = std::size_t(cp.wear->counters.rows),
@@ -261,6 +273,7 @@ int resume_run(const Args& a) {
     throw InputError((dir / "checkpoint.h5").string() + ": a wear run's, but no wear.law");
   // Never written in place: a kill may have torn it (result_recovery.hpp, issue 14).
   const auto done = std::int64_t(cp.memory.next_step);
+  check_finished_rows(dir / "timeseries.csv", cp.memory.next_step);
   warn_if_any(prepare_result_for_resume(dir, *model, cp.run_id,
                                         {.rows = cp.memory.next_step, .field_steps = done}));
   model->surface = cp.surface;
@@ -279,13 +292,22 @@ int cmd_run(const Args& a) {
   if (!a.out.empty()) set_output_dir(sc, a.out);
   auto model = build_model(sc);
   const OutputLock lock(sc.output.dir);  // before the checks: no second run slips in between
+  warn_if_any(settle_replaced_results(sc.output.dir));
   prepare_output_dir(sc.output.dir, a.overwrite);
   model->run_id = new_run_id();
-  if (model->wear) {  // wear runs: their own driver and checkpoints
-    return run_wear(*model, a.quiet, nullptr, a.stop_after).exit_code;
+  try {
+    if (model->wear) return run_wear(*model, a.quiet, nullptr, a.stop_after).exit_code;
+    Stepper stepper(*model);
+    return run_model(*model, stepper, -1, a);
+  } catch (...) {
+    // Failed before its first checkpoint: the results it was to replace are put back. Its
+    // error is the one line to print; a folder that cannot be settled now is at the next run.
+    try {
+      (void)settle_replaced_results(sc.output.dir);
+    } catch (const std::exception&) {
+    }
+    throw;
   }
-  Stepper stepper(*model);
-  return run_model(*model, stepper, -1, a);
 }
 
 // Everything `run` does before its first solve (prepare_model: files read, memory guard,

@@ -1,5 +1,7 @@
 #include "fretbem/core/stop_signal.hpp"
 
+#include <pthread.h>
+
 #include <csignal>
 
 namespace fretbem {
@@ -22,6 +24,14 @@ void install_stop_signal_handlers(SecondSignal second) {
   sa.sa_flags = second == SecondSignal::kills ? SA_RESETHAND : 0;
   sigaction(SIGTERM, &sa, nullptr);
   sigaction(SIGINT, &sa, nullptr);
+  // A process inherits its signal mask across exec: started with SIGTERM blocked, it would
+  // never see Slurm's stop and be killed at the time limit without a checkpoint. A request
+  // that arrived while blocked is pending and reaches the handler here.
+  sigset_t stops;
+  sigemptyset(&stops);
+  sigaddset(&stops, SIGTERM);
+  sigaddset(&stops, SIGINT);
+  pthread_sigmask(SIG_UNBLOCK, &stops, nullptr);
 }
 
 bool stop_requested() {

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -51,7 +52,31 @@ void write_file_atomically(const fs::path& path, std::string_view text) {
   }
 }
 
+namespace {
+
+// A folder that holds everything else is never one run's results folder: `--out "$OUT/"`
+// with OUT unset names the root, `--out "$HOME/$RUN"` with RUN unset the home folder, and a
+// run there spreads its files among the user's (with --overwrite it sets aside any of theirs
+// named like its own).
+void refuse_shared_folder(const fs::path& dir) {
+  std::error_code ec;
+  const fs::path where = fs::weakly_canonical(fs::absolute(dir, ec), ec);
+  if (ec || dir.empty()) return;
+  std::string what;
+  if (where == where.root_path()) what = "the root folder";
+  const char* home = std::getenv("HOME");
+  if (what.empty() && home && *home && where == fs::weakly_canonical(home, ec) && !ec)
+    what = "the home folder ($HOME)";
+  if (!what.empty())
+    throw InputError(dir.string() + ": " + what +
+                     " cannot be an output folder; name a folder of the run's own (--out, "
+                     "output.dir)");
+}
+
+}  // namespace
+
 void create_output_folder(const fs::path& dir) {
+  refuse_shared_folder(dir);
   std::error_code ec;
   if (!dir.empty()) fs::create_directories(dir, ec);
   if (!ec && !dir.empty() && !fs::is_directory(dir, ec))

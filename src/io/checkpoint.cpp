@@ -19,6 +19,7 @@
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/hdf5.hpp"
 #include "fretbem/core/text_file.hpp"
+#include "fretbem/io/replaced_results.hpp"
 #include "fretbem/io/result_metadata.hpp"
 
 namespace fretbem {
@@ -414,6 +415,7 @@ void save_checkpoint(const fs::path& dir, const Model& model, const Stepper& ste
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(std::string(e.what()) + " (the previous checkpoint, if any, is kept)");
   }
+  drop_replaced_results(dir);  // the run now resumes from its own checkpoint
 }
 
 void reseal_checkpoint(const fs::path& file) {

@@ -2,11 +2,14 @@
 
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <random>
 #include <vector>
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/io/replaced_results.hpp"
+#include "fretbem/io/run_files.hpp"
 
 namespace fretbem {
 
@@ -71,9 +74,32 @@ void prepare_output_dir(const fs::path& dir, bool overwrite) {
   if (!overwrite)
     throw InputError(dir.string() + ": holds the results of another run (" + found +
                      "); pass --overwrite to replace them, or choose another --out");
-  for (const char* f : {"checkpoint.h5", "checkpoint.h5.tmp"}) {
-    fs::remove(dir / f, ec);
-    if (ec) throw InputError((dir / f).string() + ": cannot remove: " + ec.message());
+  set_aside_results(dir);
+}
+
+void check_output_files(const fs::path& dir) {
+  for (const char* f : kRunOutputFiles) {
+    std::error_code ec;
+    const fs::file_status st = fs::status(dir / f, ec);
+    if (!fs::exists(st) || fs::is_regular_file(st)) continue;
+    // Opening a FIFO blocks until a writer comes, a folder fails with a message naming none.
+    const char* kind = fs::is_directory(st) ? "a folder" : fs::is_fifo(st) ? "a FIFO" : "special";
+    refuse(dir / f, std::string("is ") + kind + ", not a regular file");
+  }
+}
+
+void check_finished_rows(const fs::path& csv, std::size_t rows) {
+  std::ifstream in(csv);
+  std::string line;
+  for (std::size_t k = 0; k <= rows && std::getline(in, line); ++k) {
+    const auto first = line.find_first_not_of(" \t\r");
+    // Rows are kept by line count (run_output.cpp): a line without data among them would
+    // push a finished row out.
+    if (first == std::string::npos || line[first] == '#')
+      refuse(csv.string() + ":" + std::to_string(k + 1),
+             std::string(first == std::string::npos ? "a blank line" : "a comment line") +
+                 (k == 0 ? " before the header" : " among the finished rows") +
+                 " (fretbem writes none)");
   }
 }
 

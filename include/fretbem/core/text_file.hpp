@@ -30,7 +30,8 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view t
 
 /// Creates DIR (and its parents) for results; InputError "DIR: cannot create the output
 /// folder: <reason>" when it cannot (a file of that name, no permission): the same line for
-/// run, sweep and ensemble.
+/// run, sweep and ensemble. Refuses (InputError naming DIR) the root folder and the home
+/// folder ($HOME), which are never one run's folder.
 void create_output_folder(const std::filesystem::path& dir);
 
 }  // namespace fretbem

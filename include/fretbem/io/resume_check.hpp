@@ -17,8 +17,16 @@ std::string new_run_id();
 
 /// Before a fresh run into `dir`: refuses when `dir` holds another run's results
 /// (timeseries.csv, cycles.csv, result.h5 or checkpoint.h5) unless `overwrite`; with it,
-/// removes the old checkpoint so it can never be resumed against the new outputs.
+/// sets them aside until the new run has its first checkpoint (replaced_results.hpp).
 void prepare_output_dir(const std::filesystem::path& dir, bool overwrite);
+
+/// Before a resume reads anything: refuses any run file of `dir` (run_files.hpp) that exists
+/// but is not a regular file (a FIFO would block the resume, a folder fail it unnamed).
+void check_output_files(const std::filesystem::path& dir);
+
+/// Refuses (naming FILE:LINE) a blank or comment line among the header and the first `rows`
+/// data rows of a CSV the resume keeps and appends to.
+void check_finished_rows(const std::filesystem::path& csv, std::size_t rows);
 
 /// Refuses a checkpoint whose stored quantities do not fit the model built from its own
 /// scenario: field sizes, component count, finiteness, contact states, step counters, and the
