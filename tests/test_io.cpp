@@ -281,6 +281,50 @@ TEST(Hdf5, OpenExistingAppendsAndTruncates) {
   EXPECT_EQ(r.doubles("/fields/step_000003/pressure"), (std::vector<double>(4, 0.0)));
 }
 
+// A run may save any number of steps: 10 000 saved steps of an 8 x 8 grid (with the x/y
+// scales of a run's file) are written, and every one reads back as written, from the series
+// that stacks them and from step groups on both sides of 4096 (attaching shared scales to
+// every step's fields failed near there).
+TEST(Hdf5, TenThousandSavedStepsReadBack) {
+  TempDir tmp;
+  const int steps = 10000, n = 8;
+  const auto pressure = [&](int k) { return Field(ramp_field(n, n) + 1e-3 * k); };
+  const auto state = [&](int k) { return Field(Field::Constant(n, n, double(k % 3))); };
+  {
+    Hdf5Writer h5(tmp.path / "run");
+    h5.describe(fretbem::Grid::square(n, 1e-3), tmp.path / "run");
+    for (int k = 0; k < steps; ++k)
+      h5.write_step_fields(k, 0.5 * k, {{"pressure", pressure(k)}, {"state", state(k)}});
+  }
+  std::vector<std::string> groups;
+  for (int k = 0; k < steps; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "/fields/step_%06d", k);
+    groups.emplace_back(name);
+  }
+  for (const char* dir : {"run"}) {
+    H5Reader r(tmp.path / dir / "result.h5");
+    ASSERT_GE(r.file, 0);
+    EXPECT_EQ(r.dims("/series/fields/pressure"), (std::vector<hsize_t>{hsize_t(steps), 8, 8}));
+    const auto index = r.doubles("/series/fields/step"), time = r.doubles("/series/fields/time");
+    const auto all = r.doubles("/series/fields/pressure");
+    for (int k = 0; k < steps; ++k) {
+      ASSERT_EQ(index[k], double(k)) << dir;
+      ASSERT_EQ(time[k], 0.5 * k) << dir;
+      const Field p = pressure(k);
+      ASSERT_TRUE(std::equal(p.data(), p.data() + p.size(), all.begin() + k * n * n)) << k;
+    }
+    for (int k : {0, 4095, 4096, steps - 1}) {
+      const Field p = pressure(k), st = state(k);
+      EXPECT_EQ(r.doubles(groups[k] + "/pressure"),
+                std::vector<double>(p.data(), p.data() + p.size()));
+      EXPECT_EQ(r.doubles(groups[k] + "/state"),
+                std::vector<double>(st.data(), st.data() + st.size()));
+      EXPECT_EQ(r.scalar_attribute<double>(groups[k], "time", H5T_NATIVE_DOUBLE), 0.5 * k);
+    }
+  }
+}
+
 TEST(Hdf5, ErrorsNameThePath) {
   TempDir tmp;
   std::ofstream(tmp.path / "file") << "x";

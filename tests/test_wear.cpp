@@ -46,7 +46,7 @@ std::unique_ptr<Model> model_of(const std::string& text) {
 struct Snapshots final : WearLog {
   std::vector<double> N;
   std::vector<Field> worn, pressure;
-  void snapshot(double n, const Field& w, const Field& p) override {
+  void snapshot(double n, const Field& w, const Field& p, bool) override {
     N.push_back(n), worn.push_back(w), pressure.push_back(p);
   }
 };

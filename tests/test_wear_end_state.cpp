@@ -49,7 +49,7 @@ std::string scenario(const Case& c) {
 
 struct Final final : WearLog {
   Field pressure;
-  void snapshot(double, const Field&, const Field& p) override { pressure = p; }
+  void snapshot(double, const Field&, const Field& p, bool) override { pressure = p; }
 };
 
 void check_end_state(const Case& cs) {

@@ -419,3 +419,103 @@ TEST(WearBothBodies, ShareOutsideUnitIntervalIsOneLineError) {
   fs::remove(err);
   fs::remove_all(d);
 }
+
+namespace {
+
+// The /fields/step_* groups of result.h5: step -> time attribute.
+std::map<long, double> h5_field_steps(const fs::path& file) {
+  std::map<long, double> out;
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  EXPECT_GE(f, 0) << file;
+  if (H5Lexists(f, "/fields", H5P_DEFAULT) <= 0) return H5Fclose(f), out;
+  const hid_t g = H5Gopen2(f, "/fields", H5P_DEFAULT);
+  H5G_info_t info;
+  H5Gget_info(g, &info);
+  for (hsize_t k = 0; k < info.nlinks; ++k) {
+    char name[64];
+    H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT);
+    long step = 0;
+    double time = 0.0;
+    const hid_t s = H5Aopen_by_name(g, name, "step", H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t t = H5Aopen_by_name(g, name, "time", H5P_DEFAULT, H5P_DEFAULT);
+    EXPECT_GE(H5Aread(s, H5T_NATIVE_LONG, &step), 0) << name;
+    EXPECT_GE(H5Aread(t, H5T_NATIVE_DOUBLE, &time), 0) << name;
+    H5Aclose(s);
+    H5Aclose(t);
+    out[step] = time;
+  }
+  H5Gclose(g);
+  H5Fclose(f);
+  return out;
+}
+
+std::string field_group(long step) {
+  char name[64];
+  std::snprintf(name, sizeof name, "/fields/step_%06ld", step);
+  return name;
+}
+
+const std::string kFieldArgs = "--set output.fields=pressure,wear,state,traction_x";
+
+}  // namespace
+
+// Cycle mode saves the fields of the states a user can place: the normal loading (row 0) and
+// the end of each snapshot's cycle (N = 0, 1, 2, 5, 10 and the last, 12: the wear snapshots'
+// sequence), which ends at time N + 1; not the turning points of every simulated cycle. A
+// snapshot's pressure is that state's pressure.
+TEST(WearFields, CycleModeSavesFirstSnapshotsAndLast) {
+  const fs::path d = fresh_dir("fields_cycle");
+  ASSERT_EQ(sh(run_args(d, "cycle", 12, kFieldArgs)), 0);
+  const Csv ts = read_csv(d / "timeseries.csv");
+  const auto time = ts.column("time");
+  std::map<long, double> expected{{0, 0.0}};
+  for (double N : {0.0, 1.0, 2.0, 5.0, 10.0, 12.0}) {
+    const auto it = std::find(time.begin(), time.end(), N + 1.0);
+    ASSERT_NE(it, time.end()) << "no row ends cycle N = " << N;
+    expected[long(it - time.begin())] = N + 1.0;
+  }
+  EXPECT_EQ(h5_field_steps(d / "result.h5"), expected);
+  const fs::path h5 = d / "result.h5";
+  const long last = long(time.size()) - 1;
+  EXPECT_EQ(h5_field(h5, field_group(last) + "/pressure"),
+            h5_field(h5, "/wear/snapshot_000005/pressure"));
+  EXPECT_EQ(h5_field(h5, field_group(last) + "/wear").size(), std::size_t(32 * 32));
+  fs::remove_all(d);
+}
+
+// ODE modes: the normal loading, the end of the first steady cycle (the N = 0 snapshot) and
+// the end of the final observation cycle; the snapshots between them solve the normal load
+// alone (their pressure and worn depth are in /wear).
+TEST(WearFields, OdeModeSavesFirstFirstCycleAndLast) {
+  const fs::path d = fresh_dir("fields_erk");
+  ASSERT_EQ(sh(run_args(d, "erk", 300, kFieldArgs)), 0);
+  const auto saved = h5_field_steps(d / "result.h5");
+  const long last = long(read_csv(d / "timeseries.csv").rows.size()) - 1;
+  ASSERT_EQ(saved.size(), 3u);
+  EXPECT_EQ(saved.begin()->first, 0);
+  EXPECT_EQ(saved.rbegin()->first, last);
+  const fs::path h5 = d / "result.h5";
+  const long first_cycle = std::next(saved.begin())->first;
+  EXPECT_EQ(h5_field(h5, field_group(first_cycle) + "/pressure"),
+            h5_field(h5, "/wear/snapshot_000000/pressure"));
+  fs::remove_all(d);
+}
+
+// A wear run with fields stopped and resumed saves the uninterrupted run's fields (cycle mode:
+// the same arithmetic, round-off only).
+TEST(WearFields, ResumedRunSavesTheUninterruptedFields) {
+  const fs::path full = fresh_dir("fields_full"), part = fresh_dir("fields_part");
+  ASSERT_EQ(sh(run_args(full, "cycle", 12, kFieldArgs)), 0);
+  ASSERT_EQ(sh(run_args(part, "cycle", 12, kFieldArgs + " --stop-after 5")), 0);
+  ASSERT_EQ(sh("run --quiet --resume " + part.string()), 0);
+  const auto a = h5_field_steps(full / "result.h5"), b = h5_field_steps(part / "result.h5");
+  EXPECT_EQ(a, b);
+  for (const auto& [step, t] : a)
+    for (const char* f : {"pressure", "wear", "state", "traction_x"}) {
+      const auto x = h5_field(full / "result.h5", field_group(step) + "/" + f);
+      const auto y = h5_field(part / "result.h5", field_group(step) + "/" + f);
+      EXPECT_LE(max_diff(x, y), 1e-9 * std::max(max_abs(x), 1e-300)) << step << " " << f;
+    }
+  fs::remove_all(full);
+  fs::remove_all(part);
+}

@@ -265,7 +265,7 @@ int resume_run(const Args& a) {
     warn_if_any(prepare_result_for_resume(
         dir, *model, cp.run_id,
         {.rows = std::size_t(cp.wear->counters.rows),
-         .field_steps = std::int64_t(model->path.steps.size()),  // rewritten every cycle
+         .field_steps = std::int64_t(cp.wear->counters.rows),  // fields are of rows
          .snapshots = cp.wear->snapshots}));
     return run_wear(*model, a.quiet, &cp, a.stop_after).exit_code;
   }

@@ -58,4 +58,20 @@ std::string last_error() {
   return msg.empty() ? "unknown HDF5 error" : msg;
 }
 
+bool exists(hid_t loc, const std::string& path) {
+  std::size_t pos = 0;
+  while (pos != std::string::npos) {
+    pos = path.find('/', pos + 1);
+    const std::string prefix = path.substr(0, pos);
+    if (prefix.empty() || prefix == "/") continue;
+    if (H5Lexists(loc, prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+  }
+  return true;
+}
+
+hid_t checked(hid_t id, const std::string& what, const std::string& action) {
+  if (id < 0) throw std::runtime_error(what + ": cannot " + action + ": " + last_error());
+  return id;
+}
+
 }  // namespace fretbem::hdf5

@@ -15,14 +15,7 @@ namespace fretbem::io {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& what, const std::string& action) {
-  throw std::runtime_error(what + ": cannot " + action + ": " + hdf5::last_error());
-}
-
-hid_t checked(hid_t id, const std::string& what, const std::string& action) {
-  if (id < 0) fail(what, action);
-  return id;
-}
+using hdf5::checked;
 
 void remove_attribute(hid_t loc, const char* name, const std::string& what) {
   if (checked(H5Aexists(loc, name), what, std::string("look up attribute ") + name) > 0)
@@ -49,36 +42,39 @@ void write_int(hid_t loc, const char* name, long long v, const std::string& what
   write_attribute(loc, name, H5T_STD_I64LE, H5T_NATIVE_INT64, &x, 0, what);
 }
 
-// Cell centres along one axis: x_i = (i + 1/2 - n/2) h (Grid::x).
-std::vector<double> centres(int n, double h) {
-  std::vector<double> c(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) c[i] = (i + 0.5 - 0.5 * n) * h;
-  return c;
-}
-
-void write_scale(hid_t file, const char* name, const std::vector<double>& c,
-                 const std::string& what) {
-  if (checked(H5Lexists(file, name, H5P_DEFAULT), what, std::string("look up ") + name) > 0) return;
-  const hsize_t n = c.size();
-  hdf5::Space space(checked(H5Screate_simple(1, &n, nullptr), what, "create a dataspace"));
-  hdf5::Dataset d(checked(
-      H5Dcreate2(file, name, H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-      what, std::string("create ") + name));
-  checked(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, c.data()), what,
-          std::string("write ") + name);
-  checked(H5DSset_scale(d.get(), name + 1), what,
-          std::string("make ") + name + " a dimension scale");
-  write_string_attribute(d.get(), "units", "m", what);
-  write_string_attribute(d.get(), "long_name",
-                         std::string("cell centre ") + (name + 1) + " coordinate", what);
-}
-
 hsize_t scale_length(hid_t scale) {
   hdf5::Space s(H5Dget_space(scale));
   return s.valid() ? hsize_t(H5Sget_simple_extent_npoints(s.get())) : 0;
 }
 
 }  // namespace
+
+std::vector<double> cell_centres(int n, double h) {
+  std::vector<double> c(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) c[i] = (i + 0.5 - 0.5 * n) * h;
+  return c;
+}
+
+void write_coordinate(hid_t loc, const char* name, const std::vector<double>& c,
+                      const std::string& what) {
+  if (checked(H5Lexists(loc, name, H5P_DEFAULT), what, std::string("look up ") + name) > 0) return;
+  const hsize_t n = c.size();
+  hdf5::Space space(checked(H5Screate_simple(1, &n, nullptr), what, "create a dataspace"));
+  hdf5::Dataset d(checked(
+      H5Dcreate2(loc, name, H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+      what, std::string("create ") + name));
+  checked(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, c.data()), what,
+          std::string("write ") + name);
+  const std::string axis = std::string(name).substr(std::string(name).find_last_of('/') + 1);
+  checked(H5DSset_scale(d.get(), axis.c_str()), what,
+          std::string("make ") + name + " a dimension scale");
+  write_string_attribute(d.get(), "units", "m", what);
+  write_string_attribute(d.get(), "long_name", "cell centre " + axis + " coordinate", what);
+}
+
+bool worth_compressing(hsize_t chunk_values) {
+  return chunk_values >= 4096 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0;
+}
 
 FieldInfo field_info(const std::string& name) {
   static const std::map<std::string, FieldInfo> known{
@@ -152,11 +148,11 @@ void write_file_attributes(hid_t file, const Grid& g, const std::filesystem::pat
 }
 
 void write_grid_scales(hid_t file, const Grid& g, const std::string& what) {
-  write_scale(file, "/x", centres(g.nx, g.h), what);
-  write_scale(file, "/y", centres(g.ny, g.h), what);
+  write_coordinate(file, "/x", cell_centres(g.nx, g.h), what);
+  write_coordinate(file, "/y", cell_centres(g.ny, g.h), what);
 }
 
-void describe_field(hid_t file, hid_t dataset, const std::string& name, const std::string& what) {
+void write_field_attributes(hid_t dataset, const std::string& name, const std::string& what) {
   const FieldInfo info = field_info(name);
   write_string_attribute(dataset, "units", info.units, what);
   if (!info.long_name.empty()) write_string_attribute(dataset, "long_name", info.long_name, what);
@@ -165,6 +161,10 @@ void describe_field(hid_t file, hid_t dataset, const std::string& name, const st
     write_attribute(dataset, "flag_values", H5T_STD_U8LE, H5T_NATIVE_UINT8, values, 3, what);
     write_string_attribute(dataset, "flag_meanings", kStateMeanings, what);
   }
+}
+
+void describe_field(hid_t file, hid_t dataset, const std::string& name, const std::string& what) {
+  write_field_attributes(dataset, name, what);
   if (H5Lexists(file, "/x", H5P_DEFAULT) <= 0 || H5Lexists(file, "/y", H5P_DEFAULT) <= 0) return;
   hdf5::Dataset x(checked(H5Dopen2(file, "/x", H5P_DEFAULT), what, "open /x"));
   hdf5::Dataset y(checked(H5Dopen2(file, "/y", H5P_DEFAULT), what, "open /y"));

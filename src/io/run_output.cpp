@@ -121,12 +121,22 @@ ResultFile::ResultFile(const std::filesystem::path& dir, const Model& m, long re
 
 void ResultFile::on_step(const StepRecord& rec, const InterfaceState& s, const Model& m) {
   h5_.append_row(rec.values());
+  last_step_ = rec.step, last_time_ = rec.time;
   const auto& out = m.scenario.output;
-  if (out.fields.empty()) return;  // fields only when asked
-  const bool last = std::size_t(rec.step) + 1 == m.path.steps.size();
   const bool every = out.fields_every > 0 && rec.step % out.fields_every == 0;
-  if (every || rec.turning || last)
-    h5_.write_step_fields(rec.step, rec.time, output_fields(out.fields, s, m));
+  if (m.wear) {
+    if (rec.step == 0 || every) save_fields(s, m);
+    return;
+  }
+  const bool last = std::size_t(rec.step) + 1 == m.path.steps.size();
+  if (every || rec.turning || last) save_fields(s, m);
+}
+
+void ResultFile::save_fields(const InterfaceState& s, const Model& m) {
+  const auto& names = m.scenario.output.fields;
+  if (names.empty() || last_step_ < 0 || last_step_ == saved_step_) return;
+  h5_.write_step_fields(last_step_, last_time_, output_fields(names, s, m));
+  saved_step_ = last_step_;
 }
 
 void ResultFile::on_finish(const InterfaceState&, const Model& m) {

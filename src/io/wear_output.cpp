@@ -67,8 +67,10 @@ class WearFiles final : public WearLog {
     if (c.accepted) last_accepted_ = {snap_count(c.N), c.energy};
     progress(c.N, c.simulated);
   }
-  // The total worn depth (what the gap sees) and each body's share of it.
-  void snapshot(double N, const Field& worn, const Field& p) override {
+  // The total worn depth (what the gap sees) and each body's share of it; and, at the end of
+  // a simulated cycle, the fields asked of that state.
+  void snapshot(double N, const Field& worn, const Field& p, bool cycle_end) override {
+    if (cycle_end) h5_.save_fields(stepper_.state(), model_);
     h5_.writer().write_step_fields(snapshots_++, N,
                                    {{"worn_depth", worn},
                                     {"worn_depth_indenter", indenter_worn(model_, worn)},
@@ -134,6 +136,7 @@ WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume, long max
                                 dir);
     return rep;
   }
+  h5.save_fields(stepper.state(), model);  // the last state (its cycle's last row)
   h5.on_finish(stepper.state(), model);
   // The surfaces of the two bodies: the indenter's height, and the half-space's surface
   // height against its unworn plane (negative where worn). The contact saw their difference.

@@ -96,7 +96,7 @@ WearReport integrate_cycles(Model& model, WearCycles& cyc, WearLog* log,
   for (double N = N0; N <= N_end; N += 1.0) {
     WearCycle c = cyc.carried(N);
     if (log && next_snap < snaps.size() && snaps[next_snap] <= N) {
-      log->snapshot(N, model.surface0 - model.surface, cyc.pressure());
+      log->snapshot(N, model.surface0 - model.surface, cyc.pressure(), true);
       ++next_snap;
     }
     if (N < N_end) cyc.apply(c.rate);  // the last cycle observes the final surface
@@ -495,7 +495,7 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegr
     WearCycle c0 = cyc.steady(0.0, Field::Zero(g.nx, g.ny));
     c0.accepted = true;
     c0.worn_hash = fingerprint(Wy());
-    if (log) log->snapshot(0.0, Field::Zero(g.nx, g.ny), cyc.pressure());
+    if (log) log->snapshot(0.0, Field::Zero(g.nx, g.ny), cyc.pressure(), true);
     cap = explicit_step_cap(model, c0.max_slip);
     keep(rep, std::move(c0), log);
     if (const std::string w = explicit_cap_warning(model.scenario.wear, cap); log && !w.empty())
@@ -565,7 +565,7 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegr
       }
       if (t >= N_end) break;
       const bool snap = t >= snaps[i];
-      if (log && snap) log->snapshot(t, Wy(), cyc.pressure_on(Wy()));
+      if (log && snap) log->snapshot(t, Wy(), cyc.pressure_on(Wy()), false);
       long steps = 0, fails = 0;
       it.stats(steps, fails);
       if (!implicit || stretched) {
@@ -613,7 +613,7 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegr
     // The final surface: one more steady cycle to observe it (its wear is not applied).
     WearCycle c = cyc.steady(N_end, rep.worn);
     c.accepted = true;
-    if (log) log->snapshot(N_end, rep.worn, cyc.pressure());
+    if (log) log->snapshot(N_end, rep.worn, cyc.pressure(), true);
     keep(rep, std::move(c), log);
     rep.N = N_end;
   }

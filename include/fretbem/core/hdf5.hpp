@@ -78,4 +78,13 @@ std::vector<std::string> link_names(hid_t group);
 /// The most specific message on the HDF5 error stack, which is then cleared.
 std::string last_error();
 
+/// Whether `path` (absolute, or relative to `loc`) names an object. H5Lexists fails (rather
+/// than answering no) when an intermediate group is missing, so the path is walked one
+/// component at a time; a failing lookup answers no.
+bool exists(hid_t loc, const std::string& path);
+
+/// `id` when it is valid (identifiers and status codes alike are negative on failure), else
+/// throws std::runtime_error "WHAT: cannot ACTION: <last_error()>".
+hid_t checked(hid_t id, const std::string& what, const std::string& action);
+
 }  // namespace fretbem::hdf5

@@ -1,13 +1,14 @@
 // Hdf5Writer: DIR/result.h5 with the resolved scenario, surfaces, per-step fields and the time
-// series (DESIGN §4 "Fields"). HDF5 C API behind the interface; every write is followed by a
-// flush, so an interrupted run leaves a readable file.
+// series. HDF5 C API behind the interface; every write is followed by a flush, so an
+// interrupted run leaves a readable file.
 //
 // Layout: fields are 2-D datasets of dims {ny, nx} (h5py's a[j, i] = f(i, j)), float64 except
-// `state` (uint8: 0 open, 1 stick, 2 slip; format version 1 stored it as float64), chunked
-// and deflated (level 4), each with `units` and `long_name`; `/fields/step_%06d/NAME` with
-// attributes `step` (int64) and `time` (double) on the group; `/timeseries` is an extendible [rows,
-// ncols] double dataset with a `columns` and `units` attributes (arrays of variable-length UTF-8
-// strings); text is a scalar variable-length UTF-8 string dataset.
+// `state` (uint8: 0 open, 1 stick, 2 slip; format version 1 stored it as float64), each with
+// `units` and `long_name`; saved steps are stacked per field name in a series group and
+// `/fields/step_%06d/NAME` (attributes `step` (int64) and `time` (double) on the group) are
+// views of them (field_series.hpp); `/timeseries` is an extendible [rows, ncols] double
+// dataset with `columns` and `units` attributes (arrays of variable-length UTF-8 strings);
+// text is a scalar variable-length UTF-8 string dataset.
 #pragma once
 
 #include <cstdint>
@@ -51,9 +52,10 @@ class Hdf5Writer {
   /// `path` as a second name of the existing object `existing` (an HDF5 hard link: readers see
   /// the same dataset, no bytes are written); replaces an old object of that name.
   void link(const std::string& existing, const std::string& path);
-  /// Group /fields/step_%06d with attributes step and time and one dataset per entry.
-  /// A group of the same step written before (e.g. by a resumed run) is replaced.
-  /// `prefix` names the group family (wear snapshots use "/wear/snapshot_").
+  /// Saves the fields of a step: appended to the family's series and viewed from the group
+  /// /fields/step_%06d (attributes step and time; field_series.hpp). A step written before
+  /// (e.g. by a resumed run) is replaced. `prefix` names the family (wear snapshots use
+  /// "/wear/snapshot_").
   void write_step_fields(std::int64_t step, double time, const std::map<std::string, Field>& fields,
                          const std::string& prefix = "/fields/step_");
 

@@ -26,13 +26,19 @@ class TimeseriesCsv final : public Observer {
 
 /// DIR/result.h5: resolved scenario, initial and final surface, time series, and the fields
 /// of output.fields every output.fields_every steps, at turning points and at the last step;
-/// self-describing (Hdf5Writer::describe) with an XDMF sidecar (write_xdmf).
+/// self-describing (Hdf5Writer::describe) with an XDMF sidecar (write_xdmf). In a wear run the
+/// rows are the simulated cycles' steps, thousands of them: there it saves only row 0 and
+/// every output.fields_every rows itself, and the wear driver adds the states it can place
+/// (save_fields: the ends of the snapshots' cycles and the last state).
 class ResultFile final : public Observer {
  public:
   /// resume_rows >= 0: reopen the existing file, keep that many time-series rows, append.
   ResultFile(const std::filesystem::path& dir, const Model& model, long resume_rows = -1);
   void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) override;
   void on_finish(const InterfaceState& state, const Model& model) override;
+  /// Saves output.fields of `state`, the state of the last row written, as that row's step
+  /// (once per step; nothing when no row was written or no field is asked).
+  void save_fields(const InterfaceState& state, const Model& model);
   const std::filesystem::path& path() const { return h5_.path(); }
   /// DIR/result.xmf (saved fields over time, for ParaView) and, when the file holds wear
   /// snapshots, DIR/wear.xmf; written at the end of a run and when it stops early.
@@ -42,6 +48,9 @@ class ResultFile final : public Observer {
 
  private:
   io::Hdf5Writer h5_;
+  std::int64_t last_step_ = -1;  // of the last row written
+  double last_time_ = 0.0;
+  std::int64_t saved_step_ = -1;  // of the last fields saved
 };
 
 /// What a fresh result file starts with: its self-description, /run_id, /scenario (resolved),

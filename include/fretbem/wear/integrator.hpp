@@ -113,8 +113,13 @@ class WearLog {
   /// Every simulated cycle, in order; ARKODE rows come after the integrator step they belong
   /// to is finished (their `accepted` flag is known only then).
   virtual void cycle(const WearCycle& /*c*/) {}
-  /// Fields at N (worn depth, pressure): called at the geometric sequence of N.
-  virtual void snapshot(double /*N*/, const Field& /*worn*/, const Field& /*pressure*/) {}
+  /// Fields at N (worn depth, pressure): called at the geometric sequence of N. `cycle_end`:
+  /// the stepper's state is the end of the simulated cycle whose rows were just written (the
+  /// pressure is that state's); else it is the normal loading alone of the surface worn to N,
+  /// solved for the pressure and not a row (the ODE integrators between their first and last
+  /// snapshot).
+  virtual void snapshot(double /*N*/, const Field& /*worn*/, const Field& /*pressure*/,
+                        bool /*cycle_end*/) {}
   /// A wear step is finished and its rows and snapshots are out: the state to resume from.
   virtual void step_done(const WearCheckpoint& /*at*/) {}
   /// A warning about the run, one line (explicit_cap_warning).
