@@ -212,11 +212,15 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
   // Step 0 (the normal loading) runs even when a stop was requested before it: a checkpoint
   // without it holds no step to resume after (next_step = 0 is refused). A run replacing
   // another's results keeps those until it has this checkpoint (replaced_results.hpp).
+  // A path of step 0 alone is finished (observers told) by that first call; any other run,
+  // a resume of a finished checkpoint included, ends in the second, which tells them.
+  bool finished = false;
   if (stepper.memory().next_step == 0) {
     budget -= stepper.run(obs, 1);
+    finished = stepper.memory().next_step == stepper.steps();
     if (replacing_results(dir)) save_checkpoint(dir, model, stepper);
   }
-  if (stepper.memory().next_step < stepper.steps()) stepper.run(obs, budget, stop_requested);
+  if (!finished) stepper.run(obs, budget, stop_requested);
   if (stepper.memory().next_step < stepper.steps()) {
     save_checkpoint(dir, model, stepper);
     h5.write_xdmf();
