@@ -40,8 +40,25 @@ class Contact:
     def hertz_ok(self):
         return self.sphere and self.R is not None and self.P is not None
 
+    # Values as properties; the hertz_* methods return the same numbers (kept for scripts).
+    @property
+    def contact_radius(self):
+        """Hertz contact radius a = (3 P R / 4 E*)^(1/3) (m)."""
+        return self.hertz_radius()
+
+    @property
+    def indentation(self):
+        """Hertz indentation delta = a^2 / R (m)."""
+        return self.hertz_indentation()
+
+    @property
+    def peak_pressure(self):
+        """Hertz peak pressure p0 = 3 P / (2 pi a^2) (Pa)."""
+        return self.hertz_peak_pressure()
+
     def hertz_radius(self):
         """a = (3 P R / 4 E*)^(1/3)."""
+        self._need_sphere("hertz_radius")
         return (3 * self.P * self.R / (4 * self.E_star)) ** (1 / 3)
 
     def hertz_indentation(self):
@@ -51,6 +68,10 @@ class Contact:
     def hertz_peak_pressure(self):
         """p0 = 3 P / (2 pi a^2)."""
         return 3 * self.P / (2 * np.pi * self.hertz_radius() ** 2)
+
+    def _need_sphere(self, what):
+        if not self.hertz_ok:
+            raise ValueError(f"Contact.{what}: needs radius and normal_force")
 
     def sliding_shift(self, delta):
         """Full-sliding shift U* = mu delta E*/G* (delta: normal approach)."""
