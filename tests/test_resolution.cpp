@@ -60,6 +60,20 @@ std::vector<std::string> read_lines(const fs::path& f) {
   return out;
 }
 
+// The unit sphere's [load] body of a displacement path to `ratio` times the full-sliding shift
+// u* = mu delta E*/G* (delta = a^2/R = 1/16, mu = 0.5; Ciavarella–Jäger), then `rest`.
+std::string displacement_load(const std::string& path, double ratio, const std::string& rest) {
+  Material m;
+  m.body1 = {1.0, 0.3};
+  const double ustar = 0.5 * 0.0625 * m.E_star() / m.G_star();
+  std::ostringstream load;
+  load.precision(17);
+  load << "path = " << path
+       << "\ncontrol = displacement\ndisplacement_amplitude = " << ratio * ustar << "\n"
+       << rest;
+  return load.str();
+}
+
 }  // namespace
 
 // (a^2 - c^2) / (2a) for annuli from thin to thick, a = 40 cells: the digitised ring's measure
@@ -148,20 +162,13 @@ TEST(SlipRing, UnderResolvedRingWarnsInCheckAndRun) {
 // Ciavarella–Jäger): the whole contact slides at every load peak, which the report says instead
 // of a "ring" that is only half the contact radius.
 TEST(SlipRing, GrossSlipAtThePeaksIsReportedAsSuch) {
-  Material m;
-  m.body1 = {1.0, 0.3};
-  const double ustar = 0.5 * 0.0625 * m.E_star() / m.G_star();
-  std::ostringstream load;
-  load.precision(17);
-  load << "path = sine\ncontrol = displacement\ndisplacement_amplitude = " << 3 * ustar
-       << "\ncycles = 1\nsteps_per_cycle = 8";
-  const fs::path ini = write_ini("gross", sphere_ini(32, load.str()));
+  const fs::path ini = write_ini(
+      "gross", sphere_ini(32, displacement_load("sine", 3.0, "cycles = 1\nsteps_per_cycle = 8")));
   const fs::path out = work_dir() / "gross_run";
   fs::remove_all(out);
   const Result r = cli("run " + ini.string() + " --quiet --out " + out.string());
   EXPECT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("resolution: the whole contact slides at the load peaks"),
-            std::string::npos)
+  EXPECT_NE(r.out.find("resolution: the whole contact slides at the load peaks"), std::string::npos)
       << r.out;
   EXPECT_EQ(r.out.find("slip ring 4"), std::string::npos) << r.out;  // a/2 = 4 cells
   EXPECT_EQ(r.err.find("WARNING"), std::string::npos) << r.err;
@@ -218,14 +225,8 @@ TEST(EdgeLoad, ContactLargerThanTheGridIsRefusedUnlessAllowed) {
 // A displacement ramp to half the full-sliding shift u* = mu delta E*/G* (delta = a^2/R):
 // check and run say U*/amplitude = 2, and cycles.csv has its header and no rows.
 TEST(Ramp, DisplacementRampBelowSlidingIsReportedAndWritesNoCycleRows) {
-  Material m;
-  m.body1 = {1.0, 0.3};
-  const double ustar = 0.5 * 0.0625 * m.E_star() / m.G_star();
-  std::ostringstream load;
-  load.precision(17);
-  load << "path = ramp\ncontrol = displacement\ndisplacement_amplitude = " << ustar / 2
-       << "\nsteps = 4";
-  const fs::path ini = write_ini("ramp", sphere_ini(64, load.str()));
+  const fs::path ini =
+      write_ini("ramp", sphere_ini(64, displacement_load("ramp", 0.5, "steps = 4")));
   const Result c = cli("check " + ini.string());
   EXPECT_NE(c.out.find("ends below full sliding: U*/amplitude = 2"), std::string::npos) << c.out;
   const fs::path out = work_dir() / "ramp_run";
