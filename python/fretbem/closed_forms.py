@@ -103,6 +103,22 @@ class Contact:
         # Reloading is unloading mirrored through the origin: U_up(-F) = -U_down(F).
         return np.concatenate((down, -down)), np.concatenate((Q, -Q))
 
+    def tangential_force(self, U):
+        """Monotone Cattaneo–Mindlin force under a tangential shift U (odd in U):
+        mu P (1 - (1 - |U|/u*)^(3/2)) up to the full-sliding shift u* (Hertz indentation), then
+        mu P (gross slip)."""
+        muP, us = self.mu * self.P, self.sliding_shift(self.hertz_indentation())
+        U = np.asarray(U, dtype=float)
+        return np.sign(U) * muP * (1 - (1 - np.minimum(np.abs(U) / us, 1)) ** 1.5)
+
+    def displacement_loop(self, D, points=200):
+        """Steady loop under displacement control between -D and +D (Masing: each branch is the
+        monotone curve doubled in size), partial or gross slip: (U, F) along unloading then
+        reloading. Its area is displacement_energy(D)."""
+        U = np.linspace(D, -D, points)
+        down = self.tangential_force(D) - 2 * self.tangential_force((D - U) / 2)
+        return np.concatenate((U, -U)), np.concatenate((down, -down))
+
     def displacement_energy(self, D):
         """Energy per cycle (J) under displacement control between -D and +D: Mindlin–Deresiewicz
         at the force amplitude q = 1 - (1 - D/u*)^(3/2) below full sliding, and beyond it the
