@@ -95,7 +95,7 @@ class Figures(unittest.TestCase):
         for path in (png, os.path.splitext(png)[0] + ".pdf"):
             self.assertTrue(os.path.getsize(path) > 1000, path)
         # Sized for its panels: a landscape page wide at most (12 in at 200 dpi) and no strip
-        # (six maps in one row were 3500 x 600 px).
+        # (such as six maps in one row, 3500 x 600 px).
         w, h = png_size(png)
         self.assertLessEqual(w, 2400, png)
         self.assertLessEqual(w / h, 3.2, png)

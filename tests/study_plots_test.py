@@ -31,7 +31,7 @@ class StudyFigures(unittest.TestCase):
 
     def sized_for_panels(self, png):
         # Two panels side by side: a landscape page wide at most (12 in at 200 dpi), no strip
-        # (they were 16.8 x 3.2 in, 3360 x 640 px).
+        # (such as 16.8 x 3.2 in, 3360 x 640 px).
         w, h = png_size(png)
         self.assertLessEqual(w, 2400, png)
         self.assertLessEqual(w / h, 3.2, png)

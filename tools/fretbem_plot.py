@@ -44,7 +44,7 @@ def figure(ncols=1, nrows=1, width=3.4, height=2.8, **kw):
 
 def panel_grid(count, most_columns=3):
     """(ncols, nrows) for `count` panels: rows of at most `most_columns`, so that many panels
-    wrap instead of shrinking into one strip (six maps in a row were 3500 x 600 px)."""
+    wrap into a grid instead of a strip (six maps in one row are 3500 x 600 px)."""
     ncols = max(1, min(count, most_columns))
     return ncols, -(-count // ncols)
 

@@ -201,7 +201,7 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
     for (const auto& r : read_timeseries(dir, std::size_t(resume_rows)))
       cycles.on_step(r, stepper.state(), model);
   Checkpointer checkpoint(dir, stepper, model.scenario.output.checkpoint_every);
-  ProgressLine progress(stepper.steps());
+  ProgressLine progress(model);
   ResolutionReport resolution;
   if (resume_rows > 0)
     for (const auto& r : read_timeseries(dir, std::size_t(resume_rows)))

@@ -7,6 +7,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/stop_signal.hpp"
+#include "fretbem/history/cost_estimate.hpp"
 #include "fretbem/history/load_path.hpp"
 #include "fretbem/io/xdmf_writer.hpp"
 
@@ -160,12 +161,19 @@ void CycleSummary::on_finish(const InterfaceState&, const Model&) {
   if (const auto row = cycles_.finish()) csv_.row(row->values());
 }
 
-ProgressLine::ProgressLine(std::size_t total, bool enabled) : total_(total), reporter_(enabled) {}
+ProgressLine::ProgressLine(const Model& model, bool enabled) : reporter_(enabled) {
+  const std::vector<double> share = step_cost_shares(model);
+  cost_before_.assign(share.size() + 1, 0.0);
+  for (std::size_t i = 0; i < share.size(); ++i) cost_before_[i + 1] = cost_before_[i] + share[i];
+}
 
 void ProgressLine::on_step(const StepRecord& rec, const InterfaceState&, const Model&) {
-  const std::string where = "step " + std::to_string(rec.step + 1) + "/" + std::to_string(total_) +
+  const std::size_t total = cost_before_.size() - 1, k = std::size_t(rec.step);
+  if (first_ < 0) first_ = cost_before_[k];
+  const std::string where = "step " + std::to_string(k + 1) + "/" + std::to_string(total) +
                             "  cycle " + std::to_string(rec.cycle);
-  reporter_.update(where, double(rec.step + 1) / double(total_));
+  const double left_at_start = cost_before_.back() - first_;
+  reporter_.update(where, left_at_start > 0 ? (cost_before_[k + 1] - first_) / left_at_start : 1.0);
 }
 
 void ProgressLine::on_finish(const InterfaceState&, const Model&) {

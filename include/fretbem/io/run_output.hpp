@@ -64,15 +64,18 @@ class CycleSummary final : public Observer {
   CycleAccumulator cycles_;
 };
 
-/// The progress report of a run (step, cycle, ETA) through ProgressReporter.
+/// The progress report of a run (step, cycle, ETA) through ProgressReporter. The ETA counts
+/// the steps' relative costs (step_cost_shares: settled and predicted steps are cheaper) from
+/// the first step it sees (a resumed run's too), not the step count.
 class ProgressLine final : public Observer {
  public:
-  explicit ProgressLine(std::size_t total_steps, bool enabled = true);
+  explicit ProgressLine(const Model& model, bool enabled = true);
   void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) override;
   void on_finish(const InterfaceState& state, const Model& model) override;
 
  private:
-  std::size_t total_;
+  std::vector<double> cost_before_;  ///< summed shares of the steps before each step
+  double first_ = -1.0;              ///< cost before the first step seen (-1: none yet)
   ProgressReporter reporter_;
 };
 
