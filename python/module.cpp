@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -14,6 +15,7 @@
 
 #include "fretbem/contact/monotone_shortcut.hpp"
 #include "fretbem/core/errors.hpp"
+#include "fretbem/history/cycle_summary.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/preflight.hpp"
 #include "fretbem/history/stepper.hpp"
@@ -73,42 +75,79 @@ py::dict record_dict(const StepRecord& r) {
   return d;
 }
 
+py::dict cycle_dict(const CycleRow& c) {
+  py::dict d;
+  const auto vals = c.values();
+  const auto& cols = CycleRow::columns();
+  for (std::size_t i = 0; i < cols.size(); ++i) d[py::str(cols[i])] = vals[i];
+  d["cycle"] = c.cycle, d["steps"] = c.steps, d["contact_nodes"] = c.contact_nodes;
+  return d;
+}
+
 // The Model with the Python objects it depends on.
 struct PyModel {
   std::unique_ptr<Model> model;
 };
 
+// A stepper with its own counts: two steppers on one model share the model's operators (and
+// their convolution counter), so each keeps the sum of its own steps' convolutions.
 struct PyStepper {
   std::shared_ptr<PyModel> owner;
   std::unique_ptr<Stepper> stepper;
   std::size_t next = 0;
+  std::int64_t convolutions = 0;
+  // The rows of cycles.csv, by the code that writes that file.
+  std::unique_ptr<CycleAccumulator> accumulator;
+  std::vector<CycleRow> cycles;
 
   py::dict advance() {
     if (next >= stepper->steps()) throw py::stop_iteration();
-    return record_dict(stepper->advance(next++));
+    const StepRecord rec = stepper->advance(next++);
+    convolutions += rec.convolutions;
+    if (auto c = accumulator->add(rec)) cycles.push_back(*c);
+    if (next == stepper->steps())
+      if (auto c = accumulator->finish()) cycles.push_back(*c);
+    return record_dict(rec);
   }
 };
 
+// Errors of a scenario built in Python name the call that built it, as the CLI names the file.
 Scenario from_text(const std::string& text, const std::string& name, const std::string& base,
                    const std::vector<std::string>& overrides) {
   return parse_scenario(text, name, base, overrides);
 }
 
-// {"material": {"E": 210e9, ...}, ...} -> INI text; values through Python's str(), so numbers
-// keep Python's shortest round-trip spelling.
+// A Python value as INI text: bools as true/false, lists and tuples comma-separated (as
+// output.fields = pressure, state), whole floats (32.0, numpy's too) as integers so that integer
+// keys accept them, other numbers through repr (shortest round-trip spelling).
+std::string ini_value(const py::handle& v) {
+  // Imported per call (cached in sys.modules): a static py::object outlives the interpreter.
+  const py::object numbers = py::module_::import("numbers");
+  if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
+  if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
+    std::string out;
+    for (const auto& item : v) out += (out.empty() ? "" : ", ") + ini_value(item);
+    return out;
+  }
+  if (py::isinstance(v, numbers.attr("Integral"))) return py::str(v).cast<std::string>();
+  if (py::isinstance(v, numbers.attr("Real"))) {
+    const double x = v.cast<double>();
+    // Below 2^53 a whole double is an exact integer.
+    if (std::isfinite(x) && x == std::floor(x) && std::abs(x) < 9007199254740992.0)
+      return std::to_string(static_cast<long long>(x));
+    return py::repr(py::float_(x)).cast<std::string>();
+  }
+  return py::str(v).cast<std::string>();
+}
+
+// {"material": {"E": 210e9, ...}, ...} -> INI text.
 // (A stream, not string concatenation: GCC 12 warns falsely (-Wrestrict) on the latter here.)
 std::string ini_of(const py::dict& d) {
   std::ostringstream text;
   for (auto [section, keys] : d) {
     text << "[" << py::str(section).cast<std::string>() << "]\n";
-    for (auto [k, v] : keys.cast<py::dict>()) {
-      text << py::str(k).cast<std::string>() << " = ";
-      if (py::isinstance<py::bool_>(v))
-        text << (v.cast<bool>() ? "true" : "false");
-      else
-        text << py::str(v).cast<std::string>();
-      text << "\n";
-    }
+    for (auto [k, v] : keys.cast<py::dict>())
+      text << py::str(k).cast<std::string>() << " = " << ini_value(v) << "\n";
   }
   return text.str();
 }
@@ -125,12 +164,12 @@ void bind_scenario(py::module_& m) {
       .def_static(
           "from_dict",
           [](const py::dict& d, const std::string& base, const std::vector<std::string>& o) {
-            return from_text(ini_of(d), "python", base, o);
+            return from_text(ini_of(d), "Scenario.from_dict", base, o);
           },
           py::arg("sections"), py::arg("base_dir") = ".",
           py::arg("overrides") = std::vector<std::string>{},
           "Builds a scenario from {'section': {'key': value}}; relative paths against base_dir.")
-      .def_static("from_text", &from_text, py::arg("text"), py::arg("name") = "python",
+      .def_static("from_text", &from_text, py::arg("text"), py::arg("name") = "Scenario.from_text",
                   py::arg("base_dir") = ".", py::arg("overrides") = std::vector<std::string>{})
       .def_property_readonly(
           "text", [](const Scenario& s) { return s.resolved_text; },
@@ -182,6 +221,8 @@ void bind_stepper(py::module_& m) {
              PyStepper s;
              s.owner = pm;
              s.stepper = std::make_unique<Stepper>(*pm->model);
+             const Scenario& sc = pm->model->scenario;
+             s.accumulator = std::make_unique<CycleAccumulator>(sc.load.path, sc.grid.h);
              return s;
            }),
            py::arg("model"))
@@ -191,6 +232,34 @@ void bind_stepper(py::module_& m) {
       .def("__iter__", [](PyStepper& s) -> PyStepper& { return s; })
       .def("__next__", &PyStepper::advance)
       .def_property_readonly("next_step", [](const PyStepper& s) { return s.next; })
+      .def_property_readonly(
+          "convolutions", [](const PyStepper& s) { return s.convolutions; },
+          "FFT convolutions this stepper's steps used (its own, also when another stepper "
+          "shares the model)")
+      .def_property_readonly(
+          "cycles",
+          [](const PyStepper& s) {
+            py::list out;
+            for (const auto& c : s.cycles) out.append(cycle_dict(c));
+            return out;
+          },
+          "The load cycles finished so far, one dict per cycle with the columns of cycles.csv "
+          "(dissipated_energy and loop_area in J, Fx_amplitude in N, Ux_amplitude in m, ...); "
+          "the last cycle is closed by the path's last step. Ramps have none.")
+      .def(
+          "cycles_array",
+          [](const PyStepper& s) {
+            const auto cols = py::ssize_t(CycleRow::columns().size());
+            py::array_t<double> a({py::ssize_t(s.cycles.size()), cols});
+            auto w = a.mutable_unchecked<2>();
+            for (std::size_t i = 0; i < s.cycles.size(); ++i) {
+              const auto v = s.cycles[i].values();
+              for (py::ssize_t j = 0; j < cols; ++j) w(py::ssize_t(i), j) = v[std::size_t(j)];
+            }
+            return a;
+          },
+          "The finished cycles as a (cycles, columns) float array, columns as "
+          "fretbem.cycle_columns (the columns of cycles.csv).")
       .def_property_readonly(
           "pressure",
           [](py::object self) {
@@ -271,6 +340,7 @@ void register_errors(py::module_& m) {
 PYBIND11_MODULE(_fretbem, m) {
   m.doc() = "fretbem: frictional contact of rough elastic surfaces under load histories";
   m.attr("__version__") = FRETBEM_VERSION;
+  m.attr("cycle_columns") = CycleRow::columns();
   register_errors(m);
   bind_scenario(m);
   bind_model(m);

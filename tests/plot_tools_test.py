@@ -62,6 +62,26 @@ class ClosedForms(unittest.TestCase):
                                1.0, delta=1e-6)
 
 
+    def test_displacement_loop_area_is_the_displacement_energy(self):
+        scn = {"material.E": "210e9", "material.nu": "0.3", "material.mu": "0.5",
+               "surface.type": "sphere", "surface.radius": "0.01", "load.normal_force": "10"}
+        c = fp.Contact(scn)
+        us = c.sliding_shift(c.hertz_radius() ** 2 / c.R)
+        for ratio in (0.2, 0.9, 1.0, 1.5, 4.0):  # partial slip, the edge, gross slip
+            u, f = c.displacement_loop(ratio * us, points=200001)
+            area = abs(np.trapz(f, u))  # the closed polygon: the loop's enclosed area
+            self.assertAlmostEqual(float(c.displacement_energy(ratio * us)) / area, 1.0,
+                                   delta=1e-6, msg=f"D = {ratio} u*")
+            self.assertAlmostEqual(f[0], c.tangential_force(ratio * us))  # starts at the tip
+
+
+def png_size(path):
+    """(width, height) in pixels from the PNG header (IHDR)."""
+    with open(path, "rb") as f:
+        head = f.read(24)
+    return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
+
+
 class Figures(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -74,6 +94,11 @@ class Figures(unittest.TestCase):
     def written(self, png):
         for path in (png, os.path.splitext(png)[0] + ".pdf"):
             self.assertTrue(os.path.getsize(path) > 1000, path)
+        # Sized for its panels: a landscape page wide at most (12 in at 200 dpi) and no strip
+        # (such as six maps in one row, 3500 x 600 px).
+        w, h = png_size(png)
+        self.assertLessEqual(w, 2400, png)
+        self.assertLessEqual(w / h, 3.2, png)
 
     def test_hysteresis_one_and_several_runs(self):
         out = os.path.join(TMP, "h.png")
@@ -86,6 +111,39 @@ class Figures(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         self.written(out2)
 
+    def test_hysteresis_draws_the_gross_slip_reference(self):
+        # D = 1 um is 3.5 full-sliding shifts u* = mu delta E*/G* (Hertz delta = a^2/R).
+        run_dir = fretbem("mindlin_cycle.ini", os.path.join(TMP, "gross"), "grid.n=32",
+                          "load.steps_per_cycle=16", "load.cycles=2", "load.control=displacement",
+                          "load.displacement_amplitude=1e-6")
+        import plot_hysteresis  # noqa: E402  (tools/ is on the path)
+        scn = fp.read_scenario(run_dir)
+        c = fp.Contact(scn)
+        ref = plot_hysteresis.md_reference(scn, c)
+        self.assertIsNotNone(ref)
+        self.assertIn("gross slip", ref[3])
+        self.assertAlmostEqual(ref[2] / (4 * c.mu * c.P * (1e-6 - 0.8 * c.sliding_shift(
+            c.hertz_radius() ** 2 / c.R))), 1.0, delta=1e-12)
+        # The run's steady energy per cycle against the gross-slip line (n = 32: 1 %).
+        self.assertAlmostEqual(plot_hysteresis.steady_energy(run_dir) / ref[2], 1.0, delta=0.01)
+        out = os.path.join(TMP, "h_gross.png")
+        r = tool("plot_hysteresis.py", run_dir, "--out", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.written(out)
+
+    def test_monotone_sphere_and_rough(self):
+        sphere = fretbem("cattaneo.ini", os.path.join(TMP, "catt"), "grid.n=32", "load.steps=8")
+        rough = fretbem("rough_monotone.ini", os.path.join(TMP, "rough"), "grid.n=32",
+                        "load.steps=8")
+        for args in ([sphere], [rough], [sphere, rough, "--labels", "sphere,rough"]):
+            out = os.path.join(TMP, f"mono{len(args)}.png")
+            r = tool("plot_monotone.py", *args, "--out", out)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.written(out)
+        r = tool("plot_monotone.py", os.path.join(TMP, "no_such_run"))
+        self.assertNotEqual(r.returncode, 0)
+        self.assertEqual(r.stderr.count("\n"), 1, r.stderr)
+
     def test_hysteresis_refuses_a_wear_run_in_one_line(self):
         r = tool("plot_hysteresis.py", self.wear, "--out", os.path.join(TMP, "x.png"))
         self.assertNotEqual(r.returncode, 0)
@@ -93,7 +151,7 @@ class Figures(unittest.TestCase):
         self.assertEqual(r.stderr.count("\n"), 1)
 
     def test_fields_wear_and_surface(self):
-        for name, args in (("plot_fields.py", [self.cycle]),
+        for name, args in (("plot_fields.py", [self.cycle]),  # six maps by default
                            ("plot_fields.py", [self.cycle, "--field", "traction_x"]),
                            ("plot_wear.py", [self.wear]),
                            ("plot_surface.py", [self.cycle])):

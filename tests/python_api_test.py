@@ -23,16 +23,21 @@ SCENARIO = os.path.join(SOURCE, "scenarios", "mindlin_cycle.ini")
 SMALL = ["grid.n=16", "load.steps_per_cycle=8", "load.cycles=2"]
 
 
+def cli_table(name):
+    """`fretbem run SCENARIO` with SMALL: the header and rows of its output file `name`."""
+    out = tempfile.mkdtemp(prefix="fretbem_py_")
+    cmd = [BINARY, "run", SCENARIO, "--quiet", "--out", out]
+    for s in SMALL:
+        cmd += ["--set", s]
+    subprocess.run(cmd, check=True, capture_output=True)
+    with open(os.path.join(out, name)) as f:
+        header = f.readline().strip().split(",")
+        return header, [[float(c) for c in line.split(",")] for line in f]
+
+
 class Api(unittest.TestCase):
     def test_rows_equal_the_cli_to_the_last_digit(self):
-        out = tempfile.mkdtemp(prefix="fretbem_py_")
-        cmd = [BINARY, "run", SCENARIO, "--quiet", "--out", out]
-        for s in SMALL:
-            cmd += ["--set", s]
-        subprocess.run(cmd, check=True, capture_output=True)
-        with open(os.path.join(out, "timeseries.csv")) as f:
-            header = f.readline().strip().split(",")
-            cli = [[float(c) for c in line.split(",")] for line in f]
+        header, cli = cli_table("timeseries.csv")
         stepper = fretbem.Stepper(fretbem.Model(fretbem.Scenario.from_file(SCENARIO, SMALL)))
         rows = list(stepper)
         self.assertEqual(len(rows), len(cli))
@@ -92,7 +97,95 @@ class Api(unittest.TestCase):
         self.assertAlmostEqual(fretbem.gw.stiffness_ratio_fractal(0.0, 0.5), 1.0)
         self.assertAlmostEqual(fretbem.gw.stiffness_ratio_fractal(0.5, 1.0), 0.5 ** 0.5)
         c = fretbem.Contact((210e9, 0.3), mu=0.5, radius=0.01, normal_force=10)
-        self.assertAlmostEqual(c.hertz_radius() * 1e6, 68.75, places=1)
+        self.assertAlmostEqual(c.contact_radius * 1e6, 68.75, places=1)
+
+    def test_cycles_equal_cycles_csv(self):
+        header, cli = cli_table("cycles.csv")
+        stepper = fretbem.Stepper(fretbem.Model(fretbem.Scenario.from_file(SCENARIO, SMALL)))
+        rows = list(stepper)
+        self.assertEqual(header, fretbem.cycle_columns)
+        self.assertEqual(len(stepper.cycles), 2)
+        for mine, theirs in zip(stepper.cycles, cli):
+            self.assertEqual([mine[c] for c in header], theirs)
+        self.assertTrue(np.array_equal(stepper.cycles_array(), np.array(cli)))
+        # Energy per cycle: the cumulative dissipation's increase over the cycle's steps
+        # (8 per cycle after the normal loading, row 0).
+        for k, c in enumerate(stepper.cycles):
+            gained = rows[8 * (k + 1)]["dissipation"] - rows[8 * k]["dissipation"]
+            self.assertAlmostEqual(c["dissipated_energy"] / gained, 1.0, places=12)
+
+    def test_cycles_of_a_ramp_are_none(self):
+        stepper = fretbem.Stepper(fretbem.Model(fretbem.Scenario.from_file(
+            os.path.join(SOURCE, "scenarios", "cattaneo.ini"), ["grid.n=16", "load.steps=4"])))
+        list(stepper)
+        self.assertEqual(stepper.cycles, [])
+        self.assertEqual(stepper.cycles_array().shape, (0, len(fretbem.cycle_columns)))
+
+    def test_from_dict_takes_python_types(self):
+        sc = fretbem.Scenario.from_dict({
+            "material": {"E": 210e9, "nu": 0.3, "mu": np.float64(0.5)},
+            "grid": {"n": 32.0, "length": 2.8e-4, "periodic": False},
+            "surface": {"type": "sphere", "radius": 0.01},
+            "load": {"normal_force": np.int64(10), "path": "sine", "amplitude": 0.5},
+            "output": {"fields": ["pressure", "state"]}})
+        self.assertEqual(sc.shape, (32, 32))
+        self.assertIn("fields = pressure, state", sc.text)
+        self.assertIn("mu = 0.5", sc.text)
+        with self.assertRaisesRegex(fretbem.InputError, "grid.n"):
+            fretbem.Scenario.from_dict({"material": {"E": 1e9, "nu": 0.3},
+                                        "grid": {"n": 32.5, "length": 1e-3}})
+
+    def test_errors_name_their_source(self):
+        with self.assertRaisesRegex(fretbem.InputError, "^Scenario.from_dict: material.nu"):
+            fretbem.Scenario.from_dict({"material": {"E": 1e9, "nu": 0.7},
+                                        "grid": {"n": 16, "length": 1e-3}})
+        with self.assertRaisesRegex(fretbem.InputError, "^Scenario.from_text: "):
+            fretbem.Scenario.from_text("[material]\nE = 1e9\nnu = 0.7\n")
+        path = os.path.join(tempfile.mkdtemp(prefix="fretbem_py_"), "bad.ini")
+        with open(path, "w") as f:
+            f.write("[material]\nE = 1e9\nnu = 0.7\n")
+        with self.assertRaisesRegex(fretbem.InputError, "bad.ini"):
+            fretbem.Scenario.from_file(path)
+
+    def test_contact_values_are_properties(self):
+        c = fretbem.Contact((210e9, 0.3), mu=0.5, radius=0.01, normal_force=10)
+        E_star = 210e9 / (1 - 0.3 ** 2)
+        a = (3 * 10 * 0.01 / (4 * E_star)) ** (1 / 3)  # Johnson eq. 4.22
+        self.assertAlmostEqual(c.contact_radius / a, 1.0, places=12)
+        self.assertAlmostEqual(c.indentation / (a * a / 0.01), 1.0, places=12)
+        self.assertAlmostEqual(c.peak_pressure / (3 * 10 / (2 * math.pi * a * a)), 1.0, places=12)
+        self.assertEqual(c.hertz_radius(), c.contact_radius)  # the method stays for scripts
+        with self.assertRaisesRegex(ValueError, "radius and normal_force"):
+            fretbem.Contact((210e9, 0.3)).contact_radius
+
+    def test_displacement_energy_meets_the_gross_slip_line(self):
+        # At D = u* the Mindlin–Deresiewicz energy at full sliding, 0.6 mu^2 P^2/(a G*), equals
+        # the gross-slip line 4 mu P (u* - 4u*/5), u* = 3 mu P/(4 a G*) (Johnson §7.5).
+        c = fretbem.Contact((210e9, 0.3), mu=0.5, radius=0.01, normal_force=10)
+        us = c.sliding_shift(c.indentation)
+        muP = 0.5 * 10
+        self.assertAlmostEqual(us / (3 * muP / (4 * c.contact_radius * c.G_star)), 1.0, places=12)
+        full = 0.6 * muP ** 2 / (c.contact_radius * c.G_star)
+        self.assertAlmostEqual(float(c.displacement_energy(us * (1 - 1e-12))) / full, 1.0, places=6)
+        self.assertAlmostEqual(float(c.displacement_energy(us)) / full, 1.0, places=12)
+        self.assertAlmostEqual(float(c.displacement_energy(3 * us)) / (4 * muP * 2.2 * us), 1.0,
+                               places=12)
+
+    def test_two_steppers_on_one_model_count_their_own(self):
+        sc = fretbem.Scenario.from_file(SCENARIO, SMALL)
+        model = fretbem.Model(sc)
+        a, b = fretbem.Stepper(model), fretbem.Stepper(model)
+        rows_a, rows_b = [], []
+        for _ in range(model.steps):
+            rows_a.append(a.advance())
+            rows_b.append(b.advance())
+        self.assertEqual(a.convolutions, sum(r["convolutions"] for r in rows_a))
+        self.assertEqual(b.convolutions, sum(r["convolutions"] for r in rows_b))
+        alone = list(fretbem.Stepper(fretbem.Model(sc)))
+        for ra, rb, r in zip(rows_a, rows_b, alone):
+            for key in ("Fx", "Ux", "dissipation", "stick_area"):
+                self.assertEqual(ra[key], r[key], key)
+                self.assertEqual(rb[key], r[key], key)
 
     def test_hostile_arguments_raise_and_never_crash(self):
         """Issue 14, session 6 (tools/bench/hostile_hunt.py): Stepper(None) was a SIGSEGV of the

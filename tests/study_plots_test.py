@@ -10,7 +10,7 @@ import sys
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from plot_tools_test import TMP, SOURCE, BINARY, run, tool  # noqa: E402
+from plot_tools_test import TMP, SOURCE, BINARY, png_size, run, tool  # noqa: E402
 
 
 class StudyFigures(unittest.TestCase):
@@ -29,6 +29,13 @@ class StudyFigures(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         return os.path.join(d, "out")
 
+    def sized_for_panels(self, png):
+        # Two panels side by side: a landscape page wide at most (12 in at 200 dpi), no strip
+        # (such as 16.8 x 3.2 in, 3360 x 640 px).
+        w, h = png_size(png)
+        self.assertLessEqual(w, 2400, png)
+        self.assertLessEqual(w / h, 3.2, png)
+
     def test_energy_per_cycle_sphere_and_rough(self):
         sphere = self.sweep("epc", "mindlin_cycle.ini", "load.amplitude = 0.3, 0.8\n",
                             "grid.n=32", "load.cycles=1", "load.steps_per_cycle=16",
@@ -36,6 +43,7 @@ class StudyFigures(unittest.TestCase):
         r = tool("plot_energy_per_cycle.py", sphere)
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertTrue(os.path.getsize(os.path.join(sphere, "energy_per_cycle.pdf")) > 1000)
+        self.sized_for_panels(os.path.join(sphere, "energy_per_cycle.png"))
         rough = self.sweep("epcr", "rough_fretting_cycle.ini",
                            "surface.seed = 1, 2\nload.amplitude = 0.3, 0.6\n", "grid.n=32",
                            "load.cycles=1", "load.steps_per_cycle=8")
@@ -49,6 +57,7 @@ class StudyFigures(unittest.TestCase):
         r = tool("plot_fig3_contact_fraction.py", out)
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertTrue(os.path.getsize(os.path.join(out, "fig3_contact_fraction.pdf")) > 1000)
+        self.sized_for_panels(os.path.join(out, "fig3_contact_fraction.png"))
 
     def test_no_sweep_is_one_line(self):
         for name in ("plot_energy_per_cycle.py", "plot_fig3_contact_fraction.py"):

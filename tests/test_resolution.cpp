@@ -60,6 +60,20 @@ std::vector<std::string> read_lines(const fs::path& f) {
   return out;
 }
 
+// The unit sphere's [load] body of a displacement path to `ratio` times the full-sliding shift
+// u* = mu delta E*/G* (delta = a^2/R = 1/16, mu = 0.5; Ciavarella–Jäger), then `rest`.
+std::string displacement_load(const std::string& path, double ratio, const std::string& rest) {
+  Material m;
+  m.body1 = {1.0, 0.3};
+  const double ustar = 0.5 * 0.0625 * m.E_star() / m.G_star();
+  std::ostringstream load;
+  load.precision(17);
+  load << "path = " << path
+       << "\ncontrol = displacement\ndisplacement_amplitude = " << ratio * ustar << "\n"
+       << rest;
+  return load.str();
+}
+
 }  // namespace
 
 // (a^2 - c^2) / (2a) for annuli from thin to thick, a = 40 cells: the digitised ring's measure
@@ -144,6 +158,43 @@ TEST(SlipRing, UnderResolvedRingWarnsInCheckAndRun) {
   fs::remove_all(out);
 }
 
+// A displacement sine at three times the full-sliding shift u* = mu delta E*/G* (delta = a^2/R,
+// Ciavarella–Jäger): the whole contact slides at every load peak, which the report says instead
+// of a "ring" that is only half the contact radius.
+TEST(SlipRing, GrossSlipAtThePeaksIsReportedAsSuch) {
+  const fs::path ini = write_ini(
+      "gross", sphere_ini(32, displacement_load("sine", 3.0, "cycles = 1\nsteps_per_cycle = 8")));
+  const fs::path out = work_dir() / "gross_run";
+  fs::remove_all(out);
+  const Result r = cli("run " + ini.string() + " --quiet --out " + out.string());
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("resolution: the whole contact slides at the load peaks"), std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.out.find("slip ring 4"), std::string::npos) << r.out;  // a/2 = 4 cells
+  EXPECT_EQ(r.err.find("WARNING"), std::string::npos) << r.err;
+  fs::remove_all(out);
+}
+
+// A rough displacement ramp that ends in partial slip with thin slip zones (n = 32): the
+// warning speaks of slip zones at the end of the ramp, not of a sphere's ring, Mindlin–
+// Deresiewicz or load peaks.
+TEST(SlipRing, RoughRampWarnsInRoughSurfaceWords) {
+  const fs::path out = work_dir() / "rough_run";
+  fs::remove_all(out);
+  const Result r = cli("run " + std::string(FRETBEM_SOURCE_DIR) +
+                       "/scenarios/rough_monotone.ini --quiet --set grid.n=32 --set "
+                       "load.displacement_amplitude=1e-6 --set load.steps=4 --out " +
+                       out.string());
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("resolution: slip zones"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("slip zones (per unit length of contact edge) at the end of the ramp"),
+            std::string::npos)
+      << r.err;
+  for (const char* sphere_words : {"Mindlin", "load peaks", "slip ring"})
+    EXPECT_EQ(r.err.find(sphere_words), std::string::npos) << r.err;
+  fs::remove_all(out);
+}
+
 // A sphere whose Hertz contact (a = 1/4) does not fit a domain of side 0.4: check predicts it,
 // a run refuses it (exit 2, one line naming the key), grid.allow_edge_contact = true runs with
 // a warning giving the share; the same contact on a domain of side 1 is silent.
@@ -174,14 +225,8 @@ TEST(EdgeLoad, ContactLargerThanTheGridIsRefusedUnlessAllowed) {
 // A displacement ramp to half the full-sliding shift u* = mu delta E*/G* (delta = a^2/R):
 // check and run say U*/amplitude = 2, and cycles.csv has its header and no rows.
 TEST(Ramp, DisplacementRampBelowSlidingIsReportedAndWritesNoCycleRows) {
-  Material m;
-  m.body1 = {1.0, 0.3};
-  const double ustar = 0.5 * 0.0625 * m.E_star() / m.G_star();
-  std::ostringstream load;
-  load.precision(17);
-  load << "path = ramp\ncontrol = displacement\ndisplacement_amplitude = " << ustar / 2
-       << "\nsteps = 4";
-  const fs::path ini = write_ini("ramp", sphere_ini(64, load.str()));
+  const fs::path ini =
+      write_ini("ramp", sphere_ini(64, displacement_load("ramp", 0.5, "steps = 4")));
   const Result c = cli("check " + ini.string());
   EXPECT_NE(c.out.find("ends below full sliding: U*/amplitude = 2"), std::string::npos) << c.out;
   const fs::path out = work_dir() / "ramp_run";

@@ -35,10 +35,18 @@ def fail(tool, message):
 
 
 def figure(ncols=1, nrows=1, width=3.4, height=2.8, **kw):
-    """A figure of ncols x nrows panels, each width x height inches, in the shared style."""
+    """A figure of ncols x nrows panels, each width x height inches (per panel, not the whole
+    figure), in the shared style."""
     plt.rcParams.update(STYLE)
     return plt.subplots(nrows, ncols, figsize=(width * ncols, height * nrows), squeeze=False,
                         layout="constrained", **kw)
+
+
+def panel_grid(count, most_columns=3):
+    """(ncols, nrows) for `count` panels: rows of at most `most_columns`, so that many panels
+    wrap into a grid instead of a strip (six maps in one row are 3500 x 600 px)."""
+    ncols = max(1, min(count, most_columns))
+    return ncols, -(-count // ncols)
 
 
 def save(fig, out):
@@ -183,6 +191,15 @@ class Contact(_cf.Contact):
                          radius=number(scn, "surface.radius")
                          if scn.get("surface.type") == "sphere" else None,
                          normal_force=number(scn, "load.normal_force"))
+
+
+def run_labels(args, tool):
+    """Legend labels of args.run_dirs: --labels (one per run) or the folders' names."""
+    labels = args.labels.split(",") if args.labels else \
+        [os.path.basename(os.path.normpath(d)) for d in args.run_dirs]
+    if len(labels) != len(args.run_dirs):
+        fail(tool, "--labels: give one label per run")
+    return labels
 
 
 def cycle_of_steps(time):

@@ -59,7 +59,7 @@ def plot_sphere(rows, scn, out, study_dirs):
         Wc = c.md_energy(x["q"] * muP) if x["force"] else c.displacement_energy(x["D"])
         print(f"{'force' if x['force'] else 'displacement'}, {x['q']:.4g}, {x['D'] / ustar:.4g}, "
               f"{x['W']:.6g}, {Wc:.6g}, {x['W'] / Wc:.5f}, {x['ring']:.2f}, {x['a_h']:.0f}")
-    fig, axs = fp.figure(ncols=2, width=8.4, height=3.2)
+    fig, axs = fp.figure(ncols=2, width=4.2, height=3.2)
     force = [x for x in m if x["force"]]
     ax = axs[0, 0]
     if force:

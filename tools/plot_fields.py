@@ -88,8 +88,11 @@ def main():
         saved = saved_steps(h5)
         steps = [int(s) for s in args.steps.split(",")] if args.steps else \
             default_steps(saved, ts)
-        fig, axes = fp.figure(ncols=len(steps), width=2.9, height=2.9)
-        for ax, s in zip(axes[0], steps):
+        ncols, nrows = fp.panel_grid(len(steps))
+        fig, axes = fp.figure(ncols=ncols, nrows=nrows, width=2.9, height=2.9)
+        for ax in axes.flat[len(steps):]:
+            ax.set_visible(False)
+        for ax, s in zip(axes.flat, steps):
             if s not in saved:
                 fp.fail(TOOL, f"step {s} not saved; saved steps: {saved}")
             g = h5[f"fields/step_{s:06d}"]
@@ -102,7 +105,8 @@ def main():
             draw(fig, ax, args.field, a, [-half_x, half_x, -half_y, half_y])
             ax.set_title(panel_title(ts, s, mu), fontsize=7)
             ax.set_xlabel("x (µm)" if length else "x (cells)")
-        axes[0][0].set_ylabel("y (µm)" if length else "y (cells)")
+        for row in axes:
+            row[0].set_ylabel("y (µm)" if length else "y (cells)")
     if args.field == "state":
         axes[0][-1].legend(handles=[Patch(facecolor=c, edgecolor="k", label=n) for c, n in
                                     (("black", "stick"), ("0.6", "slip"), ("white", "open"))],

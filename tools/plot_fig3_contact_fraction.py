@@ -105,7 +105,7 @@ def main():
         table.append((H, Fz, n, c, a, a_sd, b, b_sd))
         print(f"{H:g}, {Fz:g}, {n}, {100 * c:.3f}, {a:.3f}, {a_sd:.3f}, {kh:.3f}, "
               f"{0.5 ** (1 / (1 + H)):.3f}, {b:.3f}, {b_sd:.3f}, {1 / (1 + H):.3f}")
-    fig, axs = fp.figure(ncols=2, width=8.4, height=3.2)
+    fig, axs = fp.figure(ncols=2, width=4.2, height=3.2)
     ax = axs[0, 0]
     for i, H in enumerate(sorted({t[0] for t in table})):
         t = [x for x in table if x[0] == H]

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Hysteresis loops F_x - U_x of one or more fretbem runs, with the energy per cycle and, for a
-sphere under a force-controlled sine at constant normal force, the Mindlin–Deresiewicz loop
-and energy (Johnson, Contact Mechanics, §7.5).
+sphere under a sine at constant normal force, the Mindlin–Deresiewicz loop and energy
+(Johnson, Contact Mechanics, §7.5): at the force amplitude under force control, between the
+shift amplitudes under displacement control (gross slip past the full-sliding shift).
 
 usage: tools/plot_hysteresis.py RUN_DIR [RUN_DIR ...] [--out FILE.png] [--normalise]
                                 [--cycles all|last|0,2] [--labels A,B]
@@ -36,12 +37,25 @@ def steady_energy(run_dir):
 
 
 def md_reference(scn, contact):
-    """Q* of a force-controlled sine at constant normal force on a sphere, else None."""
-    if not (contact.hertz_ok and scn.get("load.path") == "sine"
-            and scn.get("load.control", "force") == "force"):
+    """The closed-form loop of a sphere under a sine at constant normal force, else None:
+    (U, F, energy per cycle, label). Force control: Mindlin–Deresiewicz at Q*; displacement
+    control: the Masing loop between -+D, in gross slip past the full-sliding shift u*."""
+    if not (contact.hertz_ok and scn.get("load.path") == "sine"):
         return None
-    amp = fp.number(scn, "load.amplitude")
-    return None if amp is None else amp * contact.mu * contact.P
+    if scn.get("load.control", "force") == "force":
+        amp = fp.number(scn, "load.amplitude")
+        if amp is None:
+            return None
+        q_star = amp * contact.mu * contact.P
+        u, f = contact.md_loop(q_star)
+        return u, f, contact.md_energy(q_star), "Mindlin–Deresiewicz"
+    D = fp.number(scn, "load.displacement_amplitude")
+    if not D:
+        return None
+    u, f = contact.displacement_loop(D)
+    gross = D >= contact.sliding_shift(contact.hertz_indentation())
+    return u, f, float(contact.displacement_energy(D)), \
+        "gross slip (Mindlin–Deresiewicz)" if gross else "Mindlin–Deresiewicz"
 
 
 def choose_cycles(spec, available):
@@ -88,12 +102,11 @@ def plot_run(ax, run_dir, label, colour, args, many):
             (f"cycle {c}" if len(chosen) <= 8 else None)
         ax.plot(ts["Ux"][idx] * sx, ts["Fx"][idx] * sy, lw=1.0, color=col, label=lab)
     energy = steady_energy(run_dir)
-    q_star = md_reference(scn, contact) if contact else None
-    if q_star is not None:
-        u, f = contact.md_loop(q_star)
-        ax.plot(u * sx, f * sy, "k--", lw=0.8,
-                label="Mindlin–Deresiewicz" if not many or colour == "C0" else None)
-    return xl, yl, energy, (contact.md_energy(q_star) if q_star else None), len(chosen)
+    ref = md_reference(scn, contact) if contact else None
+    if ref is not None:
+        u, f, _, name = ref
+        ax.plot(u * sx, f * sy, "k--", lw=0.8, label=name if not many or colour == "C0" else None)
+    return xl, yl, energy, (ref[2] if ref else None), len(chosen)
 
 
 def main():
@@ -105,10 +118,7 @@ def main():
     ap.add_argument("--cycles", default=None, help="all (default), last, or a list such as 0,2")
     ap.add_argument("--labels", default=None, help="legend labels of the runs, comma separated")
     args = ap.parse_args()
-    labels = args.labels.split(",") if args.labels else \
-        [os.path.basename(os.path.normpath(d)) for d in args.run_dirs]
-    if len(labels) != len(args.run_dirs):
-        fp.fail(TOOL, "--labels: give one label per run")
+    labels = fp.run_labels(args, TOOL)
     many = len(args.run_dirs) > 1
     fig, axes = fp.figure(width=4.2, height=3.3)
     ax = axes[0][0]

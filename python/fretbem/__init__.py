@@ -6,9 +6,10 @@ arrays, the Ciavarella–Jäger shortcut, the Greenwood–Williamson model and c
     stepper = fretbem.Stepper(fretbem.Model(sc))
     rows = [row for row in stepper]          # one dict per step: the timeseries.csv columns
     p = stepper.pressure                      # numpy (ny, nx), Pa
+    stepper.cycles[-1]["dissipated_energy"]   # J, the last cycle's row of cycles.csv
 
 See docs/python.md.
 """
 from ._fretbem import (InputError, Model, Scenario, SolverError, Stepper,  # noqa: F401
-                       __version__, ciavarella_jaeger, gw)
+                       __version__, ciavarella_jaeger, cycle_columns, gw)
 from .closed_forms import Contact  # noqa: F401

@@ -40,8 +40,25 @@ class Contact:
     def hertz_ok(self):
         return self.sphere and self.R is not None and self.P is not None
 
+    # Values as properties; the hertz_* methods return the same numbers (kept for scripts).
+    @property
+    def contact_radius(self):
+        """Hertz contact radius a = (3 P R / 4 E*)^(1/3) (m)."""
+        return self.hertz_radius()
+
+    @property
+    def indentation(self):
+        """Hertz indentation delta = a^2 / R (m)."""
+        return self.hertz_indentation()
+
+    @property
+    def peak_pressure(self):
+        """Hertz peak pressure p0 = 3 P / (2 pi a^2) (Pa)."""
+        return self.hertz_peak_pressure()
+
     def hertz_radius(self):
         """a = (3 P R / 4 E*)^(1/3)."""
+        self._need_sphere("hertz_radius")
         return (3 * self.P * self.R / (4 * self.E_star)) ** (1 / 3)
 
     def hertz_indentation(self):
@@ -51,6 +68,10 @@ class Contact:
     def hertz_peak_pressure(self):
         """p0 = 3 P / (2 pi a^2)."""
         return 3 * self.P / (2 * np.pi * self.hertz_radius() ** 2)
+
+    def _need_sphere(self, what):
+        if not self.hertz_ok:
+            raise ValueError(f"Contact.{what}: needs radius and normal_force")
 
     def sliding_shift(self, delta):
         """Full-sliding shift U* = mu delta E*/G* (delta: normal approach)."""
@@ -81,6 +102,22 @@ class Contact:
         down = self.md_shift(Q_star) - 2 * self.md_shift((Q_star - Q) / 2)
         # Reloading is unloading mirrored through the origin: U_up(-F) = -U_down(F).
         return np.concatenate((down, -down)), np.concatenate((Q, -Q))
+
+    def tangential_force(self, U):
+        """Monotone Cattaneo–Mindlin force under a tangential shift U (odd in U):
+        mu P (1 - (1 - |U|/u*)^(3/2)) up to the full-sliding shift u* (Hertz indentation), then
+        mu P (gross slip)."""
+        muP, us = self.mu * self.P, self.sliding_shift(self.hertz_indentation())
+        U = np.asarray(U, dtype=float)
+        return np.sign(U) * muP * (1 - (1 - np.minimum(np.abs(U) / us, 1)) ** 1.5)
+
+    def displacement_loop(self, D, points=200):
+        """Steady loop under displacement control between -D and +D (Masing: each branch is the
+        monotone curve doubled in size), partial or gross slip: (U, F) along unloading then
+        reloading. Its area is displacement_energy(D)."""
+        U = np.linspace(D, -D, points)
+        down = self.tangential_force(D) - 2 * self.tangential_force((D - U) / 2)
+        return np.concatenate((U, -U)), np.concatenate((down, -down))
 
     def displacement_energy(self, D):
         """Energy per cycle (J) under displacement control between -D and +D: Mindlin–Deresiewicz

@@ -196,12 +196,13 @@ int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
   const auto& dir = model.scenario.output.dir;
   TimeseriesCsv csv(dir, resume_rows);
   ResultFile h5(dir, model, resume_rows);
-  CycleSummary cycles(dir, resume_rows >= 0 ? 0 : -1);
+  CycleSummary cycles(dir, model.scenario.load.path, model.scenario.grid.h,
+                      resume_rows >= 0 ? 0 : -1);
   if (resume_rows > 0)
     for (const auto& r : read_timeseries(dir, std::size_t(resume_rows)))
       cycles.on_step(r, stepper.state(), model);
   Checkpointer checkpoint(dir, stepper, model.scenario.output.checkpoint_every);
-  ProgressLine progress(stepper.steps());
+  ProgressLine progress(model);
   ResolutionReport resolution;
   if (resume_rows > 0)
     for (const auto& r : read_timeseries(dir, std::size_t(resume_rows)))

@@ -27,6 +27,19 @@ std::size_t settled_from(const LoadPath& path) {
 
 }  // namespace
 
+std::vector<double> step_cost_shares(const Model& model) {
+  const std::size_t steps = model.path.steps.size(), settled = settled_from(model.path);
+  // With the cycle predictor, a step whose load transition came before starts from that
+  // step's solution (kPredictedStepShare).
+  const std::vector<char> seen = model.cycle_predictor
+                                     ? CyclePredictor::repeated_earlier(model.path.steps)
+                                     : std::vector<char>(steps, 0);
+  std::vector<double> share(steps);
+  for (std::size_t i = 0; i < steps; ++i)
+    share[i] = seen[i] ? kPredictedStepShare : i > settled ? kSettledStepShare : 1.0;
+  return share;
+}
+
 RunCostEstimate estimate_run_cost(const Scenario& sc) {
   RunCostEstimate e;
   const double cpu0 = process_cpu_seconds();
@@ -54,15 +67,9 @@ RunCostEstimate estimate_run_cost(const Scenario& sc) {
   const std::size_t calibrated = k - 1;  // tangential steps solved
   e.calibration_steps = int(k);
   const double per_step = calibrated > 0 ? tangential / double(calibrated) : 0.0;
-  const std::size_t settled = settled_from(model->path);
+  const std::vector<double> share = step_cost_shares(*model);
   double remaining = 0.0;  // remaining steps weighted by their cost relative to the calibrated
-  // With the cycle predictor, a step whose load transition came before starts from that
-  // step's solution (kPredictedStepShare).
-  const std::vector<char> seen = model->cycle_predictor
-                                     ? CyclePredictor::repeated_earlier(model->path.steps)
-                                     : std::vector<char>(steps, 0);
-  for (std::size_t i = k; i < steps; ++i)
-    remaining += seen[i] ? kPredictedStepShare : i > settled ? kSettledStepShare : 1.0;
+  for (std::size_t i = k; i < steps; ++i) remaining += share[i];
   e.convolutions = step0 + tangential + per_step * remaining;
   e.seconds = convolutions > 0 ? e.convolutions * solve_seconds / convolutions : solve_seconds;
   e.calibration_seconds = process_cpu_seconds() - cpu0;

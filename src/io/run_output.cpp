@@ -7,8 +7,8 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/stop_signal.hpp"
+#include "fretbem/history/cost_estimate.hpp"
 #include "fretbem/history/load_path.hpp"
-#include "fretbem/history/resolution.hpp"
 #include "fretbem/io/xdmf_writer.hpp"
 
 namespace fretbem {
@@ -156,74 +156,34 @@ void ResultFile::write_xdmf() const {
 }
 
 const std::vector<std::string>& CycleSummary::columns() {
-  static const std::vector<std::string> c{"cycle",           "steps",         "dissipated_energy",
-                                          "loop_area",       "Fx_amplitude",  "Ux_amplitude",
-                                          "kx_at_max",       "kx_at_min",     "slip_area_at_peak",
-                                          "slip_ring_cells", "contact_nodes", "a_over_h"};
-  return c;
+  return CycleRow::columns();
 }
 
-CycleSummary::CycleSummary(const std::filesystem::path& dir, long resume_rows)
-    : csv_(open_csv(dir, "cycles", columns(), resume_rows)) {}
+CycleSummary::CycleSummary(const std::filesystem::path& dir, PathType path, double h,
+                           long resume_rows)
+    : csv_(open_csv(dir, "cycles", columns(), resume_rows)), cycles_(path, h) {}
 
-void CycleSummary::on_step(const StepRecord& r, const InterfaceState&, const Model& m) {
-  // Ramps and normal-only paths have no cycles: the file keeps its header only (issue 18).
-  const PathType path = m.scenario.load.path;
-  if (path == PathType::none || path == PathType::ramp) return;
-  if (!have_prev_ || r.step == 0) {
-    prev_ = r, have_prev_ = true;
-    return;
-  }
-  const int cycle = cycle_containing_end(r.time);
-  if (!in_cycle_ || cycle != cycle_) {
-    flush_cycle();
-    in_cycle_ = true, cycle_ = cycle, diss0_ = prev_.dissipation, loop_ = 0, steps_ = 0;
-    peak_ = -1, fmin_ = fmax_ = prev_.Fx, umin_ = umax_ = prev_.Ux;
-    ring_ = -1, ring_at_peak_ = false, turn_max_ = turn_min_ = false;
-  }
-  // Resolution at the cycle's load peaks (the narrowest ring), else at its last step.
-  if (load_peak(r, prev_) && (ring_ < 0 || r.slip_ring_cells < ring_ || !ring_at_peak_))
-    ring_ = r.slip_ring_cells, ring_nodes_ = r.contact_nodes, ring_at_peak_ = true,
-    ring_radius_ = std::sqrt(r.contact_area / M_PI) / m.scenario.grid.h;
-  if (!ring_at_peak_)
-    ring_ = r.slip_ring_cells, ring_nodes_ = r.contact_nodes,
-    ring_radius_ = std::sqrt(r.contact_area / M_PI) / m.scenario.grid.h;
-  // Work of the tangential force over the step (trapezoid): the loop area over a cycle.
-  loop_ +=
-      0.5 * (r.Fx + prev_.Fx) * (r.Ux - prev_.Ux) + 0.5 * (r.Fy + prev_.Fy) * (r.Uy - prev_.Uy);
-  if (steps_ == 0 || r.Fx >= fmax_) k_any_max_ = r.kx;
-  if (steps_ == 0 || r.Fx <= fmin_) k_any_min_ = r.kx;
-  fmin_ = std::min(fmin_, r.Fx), fmax_ = std::max(fmax_, r.Fx);
-  umin_ = std::min(umin_, r.Ux), umax_ = std::max(umax_, r.Ux);
-  if (r.turning && r.Fx >= fmax_) k_at_max_ = r.kx, turn_max_ = true;
-  if (r.turning && r.Fx <= fmin_) k_at_min_ = r.kx, turn_min_ = true;
-  if (r.turning && std::abs(r.Fx) > peak_) peak_ = std::abs(r.Fx), slip_at_peak_ = r.slip_area;
-  ++steps_;
-  prev_ = r;
-}
-
-void CycleSummary::flush_cycle() {
-  if (!in_cycle_ || steps_ == 0) return;
-  // A cycle without a turning point at its extreme F_x (a table that ends or starts mid-way)
-  // reports kx at its extreme-F_x step (issue 14 item 13: it reported 0 or a stale value).
-  const double k_max = turn_max_ ? k_at_max_ : k_any_max_;
-  const double k_min = turn_min_ ? k_at_min_ : k_any_min_;
-  csv_.row({double(cycle_), double(steps_), prev_.dissipation - diss0_, loop_,
-            0.5 * (fmax_ - fmin_), 0.5 * (umax_ - umin_), k_max, k_min, slip_at_peak_, ring_,
-            double(ring_nodes_), ring_radius_});
+void CycleSummary::on_step(const StepRecord& r, const InterfaceState&, const Model&) {
+  if (const auto row = cycles_.add(r)) csv_.row(row->values());
 }
 
 void CycleSummary::on_finish(const InterfaceState&, const Model&) {
-  flush_cycle();
-  in_cycle_ = false;
+  if (const auto row = cycles_.finish()) csv_.row(row->values());
 }
 
-ProgressLine::ProgressLine(std::size_t total, bool enabled) : total_(total), reporter_(enabled) {}
+ProgressLine::ProgressLine(const Model& model, bool enabled) : reporter_(enabled) {
+  const std::vector<double> share = step_cost_shares(model);
+  cost_before_.assign(share.size() + 1, 0.0);
+  for (std::size_t i = 0; i < share.size(); ++i) cost_before_[i + 1] = cost_before_[i] + share[i];
+}
 
 void ProgressLine::on_step(const StepRecord& rec, const InterfaceState&, const Model&) {
-  const std::string where = "step " + std::to_string(rec.step + 1) + "/" + std::to_string(total_) +
+  const std::size_t total = cost_before_.size() - 1, k = std::size_t(rec.step);
+  if (first_ < 0) first_ = cost_before_[k];
+  const std::string where = "step " + std::to_string(k + 1) + "/" + std::to_string(total) +
                             "  cycle " + std::to_string(rec.cycle);
-  reporter_.update(where, double(rec.step + 1) / double(total_));
+  const double left_at_start = cost_before_.back() - first_;
+  reporter_.update(where, left_at_start > 0 ? (cost_before_[k + 1] - first_) / left_at_start : 1.0);
 }
 
 void ProgressLine::on_finish(const InterfaceState&, const Model&) {

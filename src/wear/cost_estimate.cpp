@@ -18,10 +18,6 @@ std::string num(double v, const char* fmt = "%.3g") {
   return format_printf(fmt, v);
 }
 
-// Lowest simulated-cycle count of the implicit integrator measured in docs/wear.md
-// (n = 32, N = 2e4: 494); below it an estimate would be a guess.
-constexpr double kImplicitMeasuredLow = 494.0;
-
 // The explicit integrator's fewest simulated cycles: the first steady cycle, then for each
 // interval between snapshots (where the integrator stops) at least ceil(length / cap)
 // Heun-Euler steps of two steady-cycle evaluations each, or the interval's cycles one by one
@@ -36,7 +32,51 @@ double explicit_low(double N, double cap, double per_evaluation) {
   return low;
 }
 
+// The implicit integrator stops at every snapshot: at least one TR-BDF2 step per interval,
+// about three steady-cycle evaluations, or the interval's cycles one by one when shorter.
+double implicit_floor(double N, double per_evaluation) {
+  const auto snaps = snapshot_cycles(N);
+  double floor = per_evaluation;
+  for (std::size_t i = 1; i < snaps.size(); ++i)
+    floor += std::min(snaps[i] - snaps[i - 1], 3.0 * per_evaluation);
+  return floor;
+}
+
+// Empirical model of the implicit integrator's simulated cycles, fitted to the 33 dirk/arkode
+// runs of docs/wear.md (n = 32-128, Q = 0.3-0.95 muP, N = 5e4-1e7, Archard and energy laws):
+// implicit_floor x 0.2 (a/h)^0.75 (A/A_stick)^1.125. The contact's size in cells a/h and the
+// slip share set how many contact-set changes the Newton iterations meet (measured: Q = 0.9
+// costs 3-4x Q = 0.3; n = 128 about twice n = 32). A sphere's A_stick/A = (1 - q)^(2/3), so
+// the last factor is (1 - q)^-0.75; it is held at q = 0.95 (gross slip has no stick zone).
+// The runs lie within 0.68-2.24 of the model, hence the range kImplicitRange.
+double implicit_middle(double N, double per_evaluation, double a_over_h, double stick_share) {
+  constexpr double kScale = 0.2, kSizeExponent = 0.75, kStickExponent = 1.125;
+  constexpr double kLeastStickShare = 0.136;  // (1 - 0.95)^(2/3)
+  return kScale * implicit_floor(N, per_evaluation) * std::pow(a_over_h, kSizeExponent) *
+         std::pow(std::max(stick_share, kLeastStickShare), -kStickExponent);
+}
+constexpr double kImplicitRange[2] = {0.6, 2.5};
+
 }  // namespace
+
+double SimulatedCycles::middle() const {
+  return std::sqrt(low * high);
+}
+
+SimulatedCycles expected_simulated_cycles(const Scenario& sc, bool implicit, double cap,
+                                          double per_evaluation, const WearCycle& c0) {
+  const double N = sc.wear.cycles, most = N + 1.0;  // cycles 0..N, the last one observes
+  if (sc.wear.integrator == WearIntegrator::cycle) return {most, most};
+  if (!implicit) {
+    const double low = std::min(most, explicit_low(N, cap, per_evaluation));
+    return {low, std::min(most, kExplicitRangeFactor * low)};
+  }
+  const double area = M_PI * c0.contact_radius * c0.contact_radius;
+  const double stick_share = area > 0.0 ? c0.stick_area / area : 1.0;
+  const double middle =
+      implicit_middle(N, per_evaluation, c0.contact_radius / sc.grid.h, stick_share);
+  return {std::min(most, kImplicitRange[0] * middle), std::min(most, kImplicitRange[1] * middle)};
+}
 
 WearCostEstimate estimate_wear_cost(const Scenario& sc) {
   WearCostEstimate e;
@@ -60,15 +100,9 @@ WearCostEstimate estimate_wear_cost(const Scenario& sc) {
   const WearSpec& w = sc.wear;
   const double N = w.cycles;
   e.implicit = runs_implicit(w.integrator, N, e.cap, cycles.simulated());
-  if (w.integrator == WearIntegrator::cycle) {
-    e.simulated_low = e.simulated_high = N + 1.0;  // cycles 0..N, the last one observes
-  } else if (e.implicit) {
-    e.simulated_high = N + 1.0;
-    e.simulated_low = std::min(e.simulated_high, kImplicitMeasuredLow);
-  } else {
-    e.simulated_low = std::min(N + 1.0, explicit_low(N, e.cap, per_evaluation));
-    e.simulated_high = std::min(N + 1.0, kExplicitRangeFactor * e.simulated_low);
-  }
+  const SimulatedCycles range =
+      expected_simulated_cycles(sc, e.implicit, e.cap, per_evaluation, c0);
+  e.simulated_low = range.low, e.simulated_high = range.high;
   e.calibration_seconds = process_cpu_seconds() - cpu0;
   return e;
 }

@@ -17,6 +17,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/wear/cost_estimate.hpp"
 #include "fretbem/wear/preconditioner.hpp"
 
 namespace fretbem {
@@ -93,6 +94,7 @@ WearReport integrate_cycles(Model& model, WearCycles& cyc, WearLog* log,
   } else {
     cyc.start();
   }
+  if (log && !resume) log->expect(N_end + 1.0, N_end + 1.0);  // cycles 0..N_end
   for (double N = N0; N <= N_end; N += 1.0) {
     WearCycle c = cyc.carried(N);
     if (log && next_snap < snaps.size() && snaps[next_snap] <= N) {
@@ -512,6 +514,11 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegr
       resume ? kind != WearIntegrator::erk && (kind == WearIntegrator::dirk || resume->implicit)
              : runs_implicit(kind, N_end, cap, cyc.simulated());
   rep.implicit = implicit;
+  if (log && !resume) {
+    const SimulatedCycles e = expected_simulated_cycles(model.scenario, implicit, cap,
+                                                        cyc.simulated(), rep.history.front());
+    log->expect(e.low, e.high);
+  }
   if (implicit)
     d.pre = std::make_unique<WearPreconditioner>(*model.half_space,
                                                  model.path.steps.front().normal.force_control);

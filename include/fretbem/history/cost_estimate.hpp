@@ -5,7 +5,9 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
+#include "fretbem/history/model.hpp"
 #include "fretbem/scenario/scenario.hpp"
 
 namespace fretbem {
@@ -33,6 +35,12 @@ inline constexpr double kSettledStepShare = 0.5;
 /// 192 from cycle 3 on against ~18 per first step (64 steps): 0.47 and 0.17; the shipped
 /// cyclic scenarios at n = 32 (test_cost_estimate) put the mean near 0.15.
 inline constexpr double kPredictedStepShare = 0.15;
+
+/// Each step's cost relative to a first tangential step (step 0 counts 1 too): 1 up to the
+/// path's second turning point, kSettledStepShare after it, kPredictedStepShare where the
+/// cycle predictor starts the step. What the estimate extrapolates with and what a run's
+/// progress ETA counts on.
+std::vector<double> step_cost_shares(const Model& model);
 
 /// Builds the model (operators included), solves the first steps and extrapolates: the
 /// convolutions of step 0 plus the mean of the calibrated tangential steps times the steps

@@ -1,6 +1,7 @@
-// The run's resolution and domain report (issues 17 §3 and 18): slip-ring width in cells at the
-// turning points, contact nodes, a/h, the load share on the edge of a free-boundary grid, and
-// a displacement ramp that ends below full sliding. Facts on stdout, warnings on stderr.
+// The run's resolution and domain report: slip-ring width in cells at the load peaks in partial
+// slip (the end of a ramp, the turning points of a cycle), or that the whole contact slides
+// there; contact nodes, a/h, the load share on the edge of a free-boundary grid, and a
+// displacement ramp that ends below full sliding. Facts on stdout, warnings on stderr.
 #pragma once
 
 #include <string>
@@ -19,7 +20,14 @@ class ResolutionReport final : public Observer {
   const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
-  double ring_ = -1;  ///< narrowest slip ring at a turning point (cells); -1: none seen
+  void resolution_lines(const Scenario& sc);
+  void keep_peak(const StepRecord& r, double h);
+
+  /// Narrowest slip ring at a load peak in partial slip (cells); -1: none seen.
+  double ring_ = -1;
+  /// A load peak at which the whole contact slides (no stick node): a ring width there only
+  /// restates the contact's size.
+  bool sliding_peak_ = false;
   long nodes_ = 0;
   double radius_cells_ = 0, edge_share_ = 0;
   StepRecord last_;

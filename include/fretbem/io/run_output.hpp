@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "fretbem/core/progress.hpp"
+#include "fretbem/history/cycle_summary.hpp"
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/io/csv_writer.hpp"
 #include "fretbem/io/hdf5_writer.hpp"
@@ -57,46 +58,33 @@ class ResultFile final : public Observer {
 /// /surface/initial and an empty /timeseries of StepRecord's columns.
 void write_result_header(io::Hdf5Writer& h5, const Model& model);
 
-/// DIR/cycles.csv: per load cycle (period 1 in time) the energy dissipated (nodal sums), the
-/// loop area of the F-U path (trapezoid rule, x and y), force and shift amplitudes, k_x and the
-/// slip area at the cycle's turning points, and the resolution there (slip-ring width in cells,
-/// contact nodes, equivalent contact radius sqrt(A/pi)/h: a/h for a sphere). A step's increment
-/// belongs to the cycle that contains its time interval (t_{k-1}, t_k]. Ramps and normal-only
-/// paths have no cycles and write no rows.
+/// DIR/cycles.csv: one CycleRow per load cycle (history/cycle_summary.hpp). Ramps and
+/// normal-only paths have no cycles and write no rows.
 class CycleSummary final : public Observer {
  public:
-  explicit CycleSummary(const std::filesystem::path& dir, long resume_rows = -1);
+  /// h: grid spacing (m).
+  CycleSummary(const std::filesystem::path& dir, PathType path, double h, long resume_rows = -1);
   void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) override;
   void on_finish(const InterfaceState& state, const Model& model) override;
   static const std::vector<std::string>& columns();
 
  private:
-  void flush_cycle();
   io::CsvWriter csv_;
-  bool have_prev_ = false;
-  StepRecord prev_;
-  bool in_cycle_ = false;  // cycle_ holds a cycle (table times may be negative: no sentinel)
-  int cycle_ = 0;
-  double diss0_ = 0, loop_ = 0, fmin_ = 0, fmax_ = 0, umin_ = 0, umax_ = 0;
-  // kx at the extreme-F_x turning points; kx at the extreme-F_x steps for a cycle without one.
-  double k_at_max_ = 0, k_at_min_ = 0, slip_at_peak_ = 0, peak_ = -1;
-  double k_any_max_ = 0, k_any_min_ = 0;
-  bool turn_max_ = false, turn_min_ = false;
-  double ring_ = -1, ring_radius_ = 0;
-  long ring_nodes_ = 0;
-  bool ring_at_peak_ = false;
-  int steps_ = 0;
+  CycleAccumulator cycles_;
 };
 
-/// The progress report of a run (step, cycle, ETA) through ProgressReporter.
+/// The progress report of a run (step, cycle, ETA) through ProgressReporter. The ETA counts
+/// the steps' relative costs (step_cost_shares: settled and predicted steps are cheaper) from
+/// the first step it sees (a resumed run's too), not the step count.
 class ProgressLine final : public Observer {
  public:
-  explicit ProgressLine(std::size_t total_steps, bool enabled = true);
+  explicit ProgressLine(const Model& model, bool enabled = true);
   void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) override;
   void on_finish(const InterfaceState& state, const Model& model) override;
 
  private:
-  std::size_t total_;
+  std::vector<double> cost_before_;  ///< summed shares of the steps before each step
+  double first_ = -1.0;              ///< cost before the first step seen (-1: none yet)
   ProgressReporter reporter_;
 };
 

@@ -6,16 +6,15 @@
 #include <string>
 
 #include "fretbem/scenario/scenario.hpp"
+#include "fretbem/wear/integrator.hpp"
 
 namespace fretbem {
 
 struct WearCostEstimate {
   double cap = 0.0;       ///< explicit stability cap 1 / (k_eq s_max K_max) (cycles per step)
   bool implicit = false;  ///< the integrator that runs is the implicit one (dirk)
-  /// Expected simulated cycles, a range: cycle mode N + 1 exactly (cycles 0..N); erk from the
-  /// fewest its step cap and the snapshots allow (explicit_low in the source) to
-  /// kExplicitRangeFactor times that (at most N + 1, the cost guard); dirk at most N + 1, the lower
-  /// end from the measured runs of docs/wear.md. Measured accuracy: docs/reliability.md.
+  /// Expected simulated cycles, a range (expected_simulated_cycles). Measured accuracy:
+  /// docs/reliability.md.
   double simulated_low = 0.0, simulated_high = 0.0;
   double convolutions_per_cycle = 0.0;  ///< FFT convolutions per simulated cycle
   double seconds_per_cycle = 0.0;       ///< CPU seconds per simulated cycle
@@ -25,6 +24,21 @@ struct WearCostEstimate {
 /// The explicit runs measured 1.3-2.0x their lower estimate (error control shortens the first
 /// steps, docs/reliability.md); the upper end of the range is this factor times the lower.
 inline constexpr double kExplicitRangeFactor = 2.5;
+
+/// Expected simulated cycles of a wear run, a range (cycles).
+struct SimulatedCycles {
+  double low = 0.0, high = 0.0;
+  /// Geometric middle of the range: what a progress ETA counts on.
+  double middle() const;
+};
+
+/// The range from the run's first steady cycle `c0` on the unworn surface (`cap` its explicit
+/// stability cap, `per_evaluation` the simulated cycles of one steady cycle): cycle mode N + 1
+/// exactly; erk from explicit_low to kExplicitRangeFactor times that; dirk from the empirical
+/// model implicit_middle (cost_estimate.cpp) times kImplicitRange; all at most N + 1 (the cost
+/// guard). `fretbem check` and the progress line of a wear run share it.
+SimulatedCycles expected_simulated_cycles(const Scenario& sc, bool implicit, double cap,
+                                          double per_evaluation, const WearCycle& c0);
 
 /// Builds the model, simulates the steady cycle of the unworn surface; writes no file.
 WearCostEstimate estimate_wear_cost(const Scenario& sc);

@@ -122,6 +122,9 @@ class WearLog {
                         bool /*cycle_end*/) {}
   /// A wear step is finished and its rows and snapshots are out: the state to resume from.
   virtual void step_done(const WearCheckpoint& /*at*/) {}
+  /// The simulated cycles the run is expected to take (cost_estimate.hpp), known after its
+  /// first steady cycle: what the progress line's ETA counts on.
+  virtual void expect(double /*simulated_low*/, double /*simulated_high*/) {}
   /// A warning about the run, one line (explicit_cap_warning).
   virtual void warn(const std::string& /*line*/) {}
   /// Asked after each step_done: true ends the run there, `stopped` (a signal, for the CLI).

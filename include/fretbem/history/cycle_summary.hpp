@@ -1,0 +1,72 @@
+// Per-cycle results of a load history (the rows of DIR/cycles.csv, also the Python stepper's
+// `cycles`): energy dissipated, loop area, amplitudes, k_x and slip at the turning points, and
+// the resolution at the load peaks, accumulated from the steps' records.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fretbem/history/load_path.hpp"
+#include "fretbem/history/observables.hpp"
+
+namespace fretbem {
+
+/// One load cycle (period 1 in time). Energies in J, forces in N, shifts in m, k_x in N/m,
+/// areas in m^2; the resolution in cells of the grid.
+struct CycleRow {
+  int cycle = 0;
+  int steps = 0;
+  double dissipated_energy = 0;  ///< sum of the nodal dissipation over the cycle's steps
+  double loop_area = 0;          ///< closed integral of F . dU (trapezoid, x and y)
+  double Fx_amplitude = 0, Ux_amplitude = 0;  ///< half the peak-to-peak range
+  /// k_x at the turning points of largest and smallest F_x; a cycle without such a turning
+  /// point (a table that ends or starts mid-way) takes the step of largest/smallest F_x.
+  double kx_at_max = 0, kx_at_min = 0;
+  double slip_area_at_peak = 0;  ///< slip area at the turning point of largest |F_x|
+  /// At the cycle's load peaks (the narrowest ring), else at its last step: slip-ring width
+  /// (cells), contact nodes and the equivalent contact radius sqrt(A/pi)/h (a/h of a sphere).
+  double slip_ring_cells = 0;
+  long contact_nodes = 0;
+  double a_over_h = 0;
+
+  /// Column names of DIR/cycles.csv, in the order of values().
+  static const std::vector<std::string>& columns();
+  std::vector<double> values() const;
+};
+
+/// Gathers the steps of a path into cycles. A step's increment belongs to the cycle that
+/// contains its time interval (t_{k-1}, t_k]. Ramps and normal-only paths have no cycles.
+class CycleAccumulator {
+ public:
+  /// h: grid spacing (m), for a_over_h.
+  CycleAccumulator(PathType path, double h);
+  /// Adds the next step; returns the cycle it closed, if any (the previous one).
+  std::optional<CycleRow> add(const StepRecord& rec);
+  /// Closes the cycle in progress (the path ended), if any.
+  std::optional<CycleRow> finish();
+
+ private:
+  void start_cycle(int cycle);
+  void track_resolution(const StepRecord& r);
+  void track_extremes(const StepRecord& r);
+  CycleRow row() const;
+
+  bool cyclic_;
+  double h_;
+  bool have_prev_ = false;
+  StepRecord prev_;
+  bool in_cycle_ = false;  // cycle_ holds a cycle (table times may be negative: no sentinel)
+  int cycle_ = 0;
+  double diss0_ = 0, loop_ = 0, fmin_ = 0, fmax_ = 0, umin_ = 0, umax_ = 0;
+  // kx at the extreme-F_x turning points; kx at the extreme-F_x steps for a cycle without one.
+  double k_at_max_ = 0, k_at_min_ = 0, slip_at_peak_ = 0, peak_ = -1;
+  double k_any_max_ = 0, k_any_min_ = 0;
+  bool turn_max_ = false, turn_min_ = false;
+  double ring_ = -1, ring_radius_ = 0;
+  long ring_nodes_ = 0;
+  bool ring_at_peak_ = false;
+  int steps_ = 0;
+};
+
+}  // namespace fretbem

@@ -1,0 +1,94 @@
+#include "fretbem/history/cycle_summary.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "fretbem/history/resolution.hpp"
+
+namespace fretbem {
+
+const std::vector<std::string>& CycleRow::columns() {
+  static const std::vector<std::string> c{"cycle",           "steps",         "dissipated_energy",
+                                          "loop_area",       "Fx_amplitude",  "Ux_amplitude",
+                                          "kx_at_max",       "kx_at_min",     "slip_area_at_peak",
+                                          "slip_ring_cells", "contact_nodes", "a_over_h"};
+  return c;
+}
+
+std::vector<double> CycleRow::values() const {
+  return {
+      double(cycle),         double(steps), dissipated_energy, loop_area,         Fx_amplitude,
+      Ux_amplitude,          kx_at_max,     kx_at_min,         slip_area_at_peak, slip_ring_cells,
+      double(contact_nodes), a_over_h};
+}
+
+CycleAccumulator::CycleAccumulator(PathType path, double h)
+    : cyclic_(path != PathType::none && path != PathType::ramp), h_(h) {}
+
+void CycleAccumulator::start_cycle(int cycle) {
+  in_cycle_ = true, cycle_ = cycle, diss0_ = prev_.dissipation, loop_ = 0, steps_ = 0;
+  peak_ = -1, fmin_ = fmax_ = prev_.Fx, umin_ = umax_ = prev_.Ux;
+  ring_ = -1, ring_at_peak_ = false, turn_max_ = turn_min_ = false;
+}
+
+// Resolution at the cycle's load peaks (the narrowest ring), else at its last step.
+void CycleAccumulator::track_resolution(const StepRecord& r) {
+  const bool peak = load_peak(r, prev_);
+  if ((peak && (ring_ < 0 || r.slip_ring_cells < ring_ || !ring_at_peak_)) || !ring_at_peak_) {
+    ring_ = r.slip_ring_cells, ring_nodes_ = r.contact_nodes;
+    ring_radius_ = std::sqrt(r.contact_area / M_PI) / h_;
+    ring_at_peak_ = ring_at_peak_ || peak;
+  }
+}
+
+void CycleAccumulator::track_extremes(const StepRecord& r) {
+  if (steps_ == 0 || r.Fx >= fmax_) k_any_max_ = r.kx;
+  if (steps_ == 0 || r.Fx <= fmin_) k_any_min_ = r.kx;
+  fmin_ = std::min(fmin_, r.Fx), fmax_ = std::max(fmax_, r.Fx);
+  umin_ = std::min(umin_, r.Ux), umax_ = std::max(umax_, r.Ux);
+  if (r.turning && r.Fx >= fmax_) k_at_max_ = r.kx, turn_max_ = true;
+  if (r.turning && r.Fx <= fmin_) k_at_min_ = r.kx, turn_min_ = true;
+  if (r.turning && std::abs(r.Fx) > peak_) peak_ = std::abs(r.Fx), slip_at_peak_ = r.slip_area;
+}
+
+std::optional<CycleRow> CycleAccumulator::add(const StepRecord& r) {
+  if (!cyclic_) return std::nullopt;
+  if (!have_prev_ || r.step == 0) {
+    prev_ = r, have_prev_ = true;
+    return std::nullopt;
+  }
+  std::optional<CycleRow> closed;
+  const int cycle = cycle_containing_end(r.time);
+  if (!in_cycle_ || cycle != cycle_) {
+    closed = finish();
+    start_cycle(cycle);
+  }
+  track_resolution(r);
+  // Work of the tangential force over the step (trapezoid): the loop area over a cycle.
+  loop_ +=
+      0.5 * (r.Fx + prev_.Fx) * (r.Ux - prev_.Ux) + 0.5 * (r.Fy + prev_.Fy) * (r.Uy - prev_.Uy);
+  track_extremes(r);
+  ++steps_;
+  prev_ = r;
+  return closed;
+}
+
+CycleRow CycleAccumulator::row() const {
+  CycleRow c;
+  c.cycle = cycle_, c.steps = steps_, c.dissipated_energy = prev_.dissipation - diss0_;
+  c.loop_area = loop_, c.Fx_amplitude = 0.5 * (fmax_ - fmin_),
+  c.Ux_amplitude = 0.5 * (umax_ - umin_);
+  c.kx_at_max = turn_max_ ? k_at_max_ : k_any_max_;
+  c.kx_at_min = turn_min_ ? k_at_min_ : k_any_min_;
+  c.slip_area_at_peak = slip_at_peak_;
+  c.slip_ring_cells = ring_, c.contact_nodes = ring_nodes_, c.a_over_h = ring_radius_;
+  return c;
+}
+
+std::optional<CycleRow> CycleAccumulator::finish() {
+  if (!in_cycle_ || steps_ == 0) return std::nullopt;
+  in_cycle_ = false;
+  return row();
+}
+
+}  // namespace fretbem
