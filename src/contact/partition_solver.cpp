@@ -3,7 +3,7 @@
 #include <limits>
 
 #include "fretbem/contact/tangential_solver.hpp"
-#include "tangential_detail.hpp"
+#include "workspace.hpp"
 
 namespace fretbem {
 
@@ -52,14 +52,14 @@ int solve_stick_set(TangentialOperator& op, const TangentialIncrement& inc, cons
 // stick nodes over their bound start to slip, projected radially onto it. Returns the number
 // of nodes moved.
 //
-// The line search is the fix for the partition's cycling under Cerruti's x-y coupling (issue
-// 14 item 7, issue 18): the earlier undamped simultaneous step tau + s / C_ii is a Jacobi
-// iteration on the slip directions, and Jacobi on the dense Boussinesq/Cerruti kernel
-// overshoots every smooth mode (the off-diagonal row sum over a slip ring exceeds C_ii many
-// times). Under the analogy at 0 degrees a slip direction is a sign, so the overshoot is cut
-// off by the bound and harmless; under Cerruti the y-traction of the slip ring rotates, the
-// overshoot swings it from side to side, and nodes whose slip swings backwards fall in and out
-// of the stick set (measured: 4-7 nodes cycling, residual ~0.25 for 5000 iterations).
+// The line search keeps the partition from cycling under Cerruti's x-y coupling: an undamped
+// simultaneous step tau + s / C_ii would be a Jacobi iteration on the slip directions, and Jacobi
+// on the dense Boussinesq/Cerruti kernel overshoots every smooth mode (the off-diagonal row sum
+// over a slip ring exceeds C_ii many times). Under the analogy at 0 degrees a slip direction is a
+// sign, so the overshoot is cut off by the bound and harmless; under Cerruti the y-traction of the
+// slip ring rotates, the overshoot swings it from side to side, and nodes whose slip swings
+// backwards fall in and out of the stick set (measured: 4-7 nodes cycling, residual ~0.25 for 5000
+// iterations).
 int repartition(Workspace& w, Field& stick, VecField& tau, VecField& u) {
   const Field& g = *w.inc.bound;
   NodeSets& sets = w.sets;
