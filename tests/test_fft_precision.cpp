@@ -1,4 +1,4 @@
-// Float FFT convolutions (solver.fft_precision = float, issue 7): the float operator against the
+// Float FFT convolutions (solver.fft_precision = float): the float operator against the
 // double one, Hertz solved both ways, and the refusal of tolerances float cannot reach.
 //
 // Tolerances: float's unit round-off is 6e-8; an FFT's relative error grows like that times a

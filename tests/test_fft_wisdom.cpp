@@ -1,4 +1,4 @@
-// FFTW wisdom (solver.fft_plan, issue 13): where `auto` measures, and that measuring a size is
+// FFTW wisdom (solver.fft_plan): where `auto` measures, and that measuring a size is
 // serialised between processes, so that concurrent first runs plan from one measurement.
 #include <gtest/gtest.h>
 #include <sys/wait.h>

@@ -1,4 +1,4 @@
-// Friction laws (issue 17 §4) against closed forms: a static/kinetic law's first slip is
+// Friction laws against closed forms: a static/kinetic law's first slip is
 // Cattaneo's with mu_s; after gross sliding a law that has moved mu uniformly reproduces the
 // constant-mu solution with the new mu; a sliding contact carries mu_k F_z.
 #include <gtest/gtest.h>

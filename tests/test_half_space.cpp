@@ -1,4 +1,4 @@
-// Validation rung 1 (DESIGN §3): Love's cell coefficients and the FFT half-space operator.
+// Validation rung 1 (docs/architecture.md, "Validation ladder"): Love's cell coefficients and the FFT half-space operator.
 //
 // References used here are independent of src/elastic/love.cpp: 2-D numerical quadrature of the
 // point-force Green's functions over a cell, direct O(n^4) summation, the point-force limits

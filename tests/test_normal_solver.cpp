@@ -1,4 +1,4 @@
-// Validation rung 2 (DESIGN §3): the Polonsky–Keer normal solver against closed forms
+// Validation rung 2 (docs/architecture.md, "Validation ladder"): the Polonsky–Keer normal solver against closed forms
 // (Hertz; the rigid flat square punch through its electrostatic analogue), its reporting and
 // error contract, and convergence on a rough surface.
 #include <gtest/gtest.h>

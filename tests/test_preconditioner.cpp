@@ -4,8 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 
 #include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/contact/preconditioning.hpp"
+#include "fretbem/contact/stiffness.hpp"
+#include "fretbem/contact/tangential_solver.hpp"
 #include "fretbem/surface/surface.hpp"
 
 using namespace fretbem;
@@ -54,4 +58,44 @@ TEST(Preconditioner, SameSolutionFewerIterations) {
     }
   }
   EXPECT_LT(pcg_iterations, plain_iterations);
+}
+
+// One decision for every CG solve: solver.precondition = on/off is obeyed as given;
+// automatic follows the measured break-evens — the normal solve from 256 x 256 cells, the
+// tangential and the stiffness solve when the largest 4-connected patch of their nodes has
+// 2048 nodes or more (a disc of radius 25.5 cells has pi 25.5^2 = 2043).
+TEST(PreconditionDecision, NormalFromTheGridSize) {
+  const PreconditionDecision automatic(Precondition::automatic);
+  EXPECT_FALSE(automatic.for_grid(Grid::square(255, 1.0)));
+  EXPECT_TRUE(automatic.for_grid(Grid::square(256, 1.0)));
+  EXPECT_TRUE(PreconditionDecision(Precondition::on).for_grid(Grid::square(8, 1.0)));
+  EXPECT_FALSE(PreconditionDecision(Precondition::off).for_grid(Grid::square(512, 1.0)));
+}
+
+TEST(PreconditionDecision, TangentialAndStiffnessDecideAlikeOnTheSameSet) {
+  const Grid grid = Grid::square(64, 64e-6);
+  Material mat;
+  mat.body1 = {210e9, 0.3};
+  HalfSpace hs(grid, mat, Coupling::analogy);
+  TangentialOperator op(hs);
+  for (const double radius : {24.0, 25.0, 26.0, 27.0}) {
+    // A disc of contact (bound 1 Pa) and the same disc sticking.
+    Field bound = grid.zeros();
+    StateField state = StateField::Constant(grid.nx, grid.ny, std::uint8_t(NodeState::open));
+    std::int64_t nodes = 0;
+    for (int j = 0; j < grid.ny; ++j)
+      for (int i = 0; i < grid.nx; ++i)
+        if (std::hypot(i - 31.5, j - 31.5) < radius) {
+          bound(i, j) = 1.0, state(i, j) = std::uint8_t(NodeState::stick);
+          ++nodes;
+        }
+    const bool expected = nodes >= 2048;  // one patch: the disc
+    for (const Precondition mode : {Precondition::automatic, Precondition::on, Precondition::off}) {
+      const bool want = mode == Precondition::automatic ? expected : mode == Precondition::on;
+      EXPECT_EQ(ProjectedCgSolver(op, {1e-8, 500, mode}).preconditioned(bound), want)
+          << radius << " cells, " << nodes << " nodes";
+      StiffnessSolver stiffness(op, 1e-8, 500, mode);
+      EXPECT_EQ(stiffness.solve(state).preconditioned, want) << radius << " cells";
+    }
+  }
 }

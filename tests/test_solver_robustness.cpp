@@ -91,8 +91,8 @@ TEST(SolverRobustness, NormalWarmStartOnWornConformingAnnulus) {
   }
 }
 
-// Force reversals near sliding (+-0.875 mu F_z, issue 12) on the worn annulus and on the
-// unworn sphere, preconditioned and plain, within issue 12's budget of 500 iterations; the
+// Force reversals near sliding (+-0.875 mu F_z) on the worn annulus and on the unworn
+// sphere, preconditioned and plain, within a budget of 500 iterations; the
 // partition algorithm (a different iteration on the same strictly convex QP) gives the same
 // traction.
 TEST(SolverRobustness, ForceReversalsNearSlidingConverge) {
@@ -169,9 +169,9 @@ stiffness = false
   EXPECT_NEAR(obs.fx, 0.7 * 20, 1e-6 * 14);
 }
 
-// Issue 12's cheapest reproducer (n = 64, wear.integrator = cycle, max_iterations = 500)
-// stalled at N = 295; with twice its wear coefficient (the same worn states at half the
-// cycles) the solver before the fix stalled at N = 148. Runs through N = 160 with the
+// A worn annulus on which the iteration can stall without its restarts (measured: N = 148 at
+// n = 64, wear.integrator = cycle, max_iterations = 500, twice the wear coefficient of the
+// smallest such case: the same worn states at half the cycles). Runs through N = 160 with the
 // projected method alone.
 TEST(SolverRobustness, WearReversalsOnTheWornAnnulus) {
   Scenario sc = scenario(R"([material]

@@ -5,7 +5,7 @@
 
 #include "fretbem/contact/tangential_solver.hpp"
 #include "fretbem/core/errors.hpp"
-#include "tangential_detail.hpp"
+#include "workspace.hpp"
 
 namespace fretbem {
 

@@ -6,6 +6,8 @@
 #include <sstream>
 #include <vector>
 
+#include "fretbem/contact/cg_core.hpp"
+#include "fretbem/contact/preconditioning.hpp"
 #include "fretbem/core/errors.hpp"
 
 namespace fretbem {
@@ -17,12 +19,6 @@ constexpr double kBulkExit = 0.01;
 // improved on it for this many iterations.
 constexpr double kGrowth = 100.0;
 constexpr int kStagnation = 200;
-
-// Whether solver.precondition asks for the preconditioned direction.
-bool preconditioned(const NormalOptions& opt, const Grid& g) {
-  return opt.precondition == Precondition::on ||
-         (opt.precondition == Precondition::automatic && g.size() >= 256 * 256);
-}
 
 // z = S K^-1 (S g), mean-free on S under force control so that directions keep the force (g is
 // mean-free on S there, so g . z is unchanged by the shift).
@@ -72,6 +68,130 @@ void NormalSolver::initial_guess(bool force_control, double target, Field& p) co
   }
 }
 
+// Polonsky–Keer's conjugate gradient on the contact set S = {p > 0} as a cg::run problem: the
+// gap is the residual, the direction lives on S, and after each step p is projected onto
+// p >= 0 with penetrating nodes re-entering the contact set.
+class NormalSolver::Iteration {
+ public:
+  Iteration(NormalSolver& s, bool force_control, double target, Field& p, bool warm)
+      : s_(s), hs_(s.hs_), force_control_(force_control), target_(target), p_(p), cold_(!warm) {
+    pre_ = PreconditionDecision(s.opt_.precondition).for_grid(hs_.grid());
+  }
+
+  // Gap on the current contact set S = {p > 0}; under force control delta is the multiplier
+  // that makes the mean gap on S vanish.
+  double residual() {
+    residual_ = s_.gap_residual(force_control_, target_, p_, &delta_);
+    return residual_;
+  }
+
+  // A warm start far from the solution (thousands of nodes to leave a worn annulus) can make
+  // the iteration climb or stall; the cold start does not depend on it. From the cold start,
+  // plain Polonsky–Keer can cycle on a worn conforming annulus (measured: n = 32, Q = 0.9 mu P,
+  // contact sets of 468 -> 268 -> 132 -> 468 nodes, residual 0.11 -> 0.023 -> 0.016, period 3,
+  // for 5000 iterations); the preconditioned direction S K^-1 S g converged there in 17
+  // iterations: it is the last resort.
+  cg::Next on_residual(int it, const cg::Watch& w) {
+    const bool stalled = w.last > kGrowth * w.best || it - w.best_it > kStagnation;
+    if (!stalled || (cold_ && (forced_ || pre_))) return cg::Next::proceed;
+    forced_ = cold_;
+    cold_start();
+    return cg::Next::restart;
+  }
+
+  // Drops accumulated round-off of the incremental updates before the residual is re-checked.
+  void refresh() { hs_.normal(p_, s_.u_); }
+  bool exhausted(int it, const cg::Watch&) const { return it == s_.opt_.max_iterations; }
+
+  // G = g . z on S, z the gap itself (Polonsky–Keer) or the preconditioned z = S K^-1 (S g).
+  double gradient_product() {
+    S_ = (p_ > 0.0).cast<double>();  // evaluated now: p changes in the step
+    direction_ =
+        forced_ || pre_ ? &preconditioned_direction(hs_, S_, s_.g_, force_control_, s_.z_) : &s_.g_;
+    return (S_ * s_.g_ * *direction_).sum();
+  }
+
+  cg::Step step(double beta) {
+    Field &t = s_.t_, &r = s_.r_;
+    t = S_ * (*direction_ + beta * t);
+    hs_.normal(t, r);
+    double rbar = 0.0;
+    if (force_control_) rbar = (S_ * r).sum() / std::max(1.0, S_.sum());
+    const double denom = (S_ * (r - rbar) * t).sum();
+    if (!(denom > 0.0)) {
+      // No descent on S. At round-off level that is the end; far from it, the warm start's
+      // contact set was wrong in a way the iteration cannot leave (e.g. one node, where the
+      // mean-free gap on S vanishes): restart once from the cold guess.
+      if (cold_ || residual_ < 1e3 * s_.opt_.tolerance) return {cg::Next::stop};
+      cold_start();
+      return {cg::Next::restart};
+    }
+    const double tau = (S_ * s_.g_ * t).sum() / denom;
+    p_ -= tau * t;
+    s_.u_ -= tau * r;
+    return {cg::Next::proceed, project(tau)};
+  }
+
+  double indentation() const { return delta_; }
+
+ private:
+  void cold_start() {
+    cold_ = true;
+    p_ = Field();
+    s_.initial_guess(force_control_, target_, p_);
+    hs_.normal(p_, s_.u_);
+  }
+
+  // After p <- p - tau t, u <- u - tau K t: projection p >= 0 and re-entry of penetrating
+  // nodes, whose (sparse) displacement change is added separately; under force control the
+  // pressure is rescaled to the force. Returns whether conjugacy restarts.
+  bool project(double tau) {
+    const Field& g = s_.g_;
+    idx_.clear(), val_.clear();
+    bool restart = false;
+    std::int64_t left = 0;
+    for (Eigen::Index k = 0; k < p_.size(); ++k) {
+      double e = 0.0;
+      if (S_(k) > 0 && p_(k) < 0.0) {
+        e = -p_(k);
+        ++left;
+      } else if (S_(k) == 0 && g(k) < 0.0 && tau > 0.0) {
+        e = -tau * g(k);
+        restart = true;
+      }
+      if (e != 0.0) p_(k) += e, idx_.push_back(k), val_.push_back(e);
+    }
+    // Nodes leaving contact in bulk change S, and with it the problem CG was conjugating on
+    // (PK restart only on re-entry; measured: ~3700 annulus nodes left while the residual
+    // climbed to 0.38 and stalled).
+    if (double(left) > kBulkExit * S_.sum()) restart = true;
+    // Few changed nodes: direct summation (~n^2 per node) beats a convolution (~4 n^2 log n)
+    // below HalfSpace::sparse_limit(), measured in tools/bench/convolution.
+    if (idx_.size() <= hs_.sparse_limit())
+      hs_.normal_add_sparse(idx_, val_, s_.u_);
+    else
+      hs_.normal(p_, s_.u_);
+    if (force_control_) {
+      const double scale = target_ / (p_.sum() * hs_.grid().cell_area());
+      p_ *= scale;
+      s_.u_ *= scale;
+    }
+    return restart;
+  }
+
+  NormalSolver& s_;
+  HalfSpace& hs_;
+  const bool force_control_;
+  const double target_;
+  Field& p_;
+  bool pre_ = false, cold_, forced_ = false;
+  double residual_ = 0.0, delta_ = 0.0;
+  Eigen::ArrayXXd S_;                 // contact set of this iteration (1 on S)
+  const Field* direction_ = nullptr;  // raw direction of this iteration: g_ or z_
+  std::vector<std::int64_t> idx_;
+  std::vector<double> val_;
+};
+
 NormalResult NormalSolver::solve(const Field& z, bool force_control, double target, Field& p) {
   const Grid& grid = hs_.grid();
   const auto conv0 = hs_.convolutions();
@@ -87,106 +207,17 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
   const bool warm = p.rows() == grid.nx && p.cols() == grid.ny && (p > 0).any();
   initial_guess(force_control, target, p);
   hs_.normal(p, u_);
-  const double area = grid.cell_area();
-  double g_old = 1.0, delta = force_control ? 0.0 : target;
-  bool restart = true, verified = false, cold = !warm, forced = false;
-  std::vector<std::int64_t> idx;
-  std::vector<double> val;
   t_ = grid.zeros();
-  // Stagnation and growth watch: the best residual so far and the iteration that reached it.
-  double best = std::numeric_limits<double>::infinity();
-  int best_it = 0;
-  auto cold_start = [&] {
-    cold = true, restart = true;
-    best = std::numeric_limits<double>::infinity();
-    p = Field();
-    initial_guess(force_control, target, p);
-    hs_.normal(p, u_);
-  };
-  for (int it = 0; it <= opt_.max_iterations; ++it) {
-    // Gap on the current contact set S = {p > 0}; under force control delta is the multiplier
-    // that makes the mean gap on S vanish.
-    res.residual = gap_residual(force_control, target, p, &delta);
-    res.iterations = it;
-    if (res.residual < best) best = res.residual, best_it = it;
-    // A warm start far from the solution (thousands of nodes to leave a worn annulus, issue
-    // 12) can make the iteration climb or stall; the cold start does not depend on it. From
-    // the cold start, plain Polonsky–Keer can cycle on a worn conforming annulus (measured,
-    // issue 12: n = 32, Q = 0.9 mu P, contact sets of 468 -> 268 -> 132 -> 468 nodes, residual
-    // 0.11 -> 0.023 -> 0.016, period 3, for 5000 iterations); the preconditioned direction
-    // S K^-1 S g converged there in 17 iterations: it is the last resort.
-    const bool stalled = res.residual > kGrowth * best || it - best_it > kStagnation;
-    if (stalled && (!cold || !(forced || preconditioned(opt_, grid)))) {
-      forced = cold;
-      cold_start();
-      continue;
-    }
-    if (res.residual <= opt_.tolerance) {
-      if (verified) {
-        res.converged = true;
-        break;
-      }
-      hs_.normal(p, u_);  // drop accumulated round-off of the incremental updates, then re-check
-      verified = true;
-      continue;
-    }
-    verified = false;
-    if (it == opt_.max_iterations) break;
-    const Eigen::ArrayXXd S = (p > 0.0).cast<double>();  // evaluated now: p changes below
-    const Field& z = forced ? preconditioned_direction(hs_, S, g_, force_control, z_)
-                            : precondition(S, force_control);
-    const double G = (S * g_ * z).sum();
-    t_ = S * (z + (restart ? 0.0 : G / g_old) * t_);
-    g_old = G;
-    hs_.normal(t_, r_);
-    double rbar = 0.0;
-    if (force_control) rbar = (S * r_).sum() / std::max(1.0, S.sum());
-    const double denom = (S * (r_ - rbar) * t_).sum();
-    if (!(denom > 0.0)) {
-      // No descent on S. At round-off level that is the end; far from it, the warm start's
-      // contact set was wrong in a way the iteration cannot leave (e.g. one node, where the
-      // mean-free gap on S vanishes): restart once from the cold guess.
-      if (cold || res.residual < 1e3 * opt_.tolerance) break;
-      cold_start();
-      continue;
-    }
-    const double tau = (S * g_ * t_).sum() / denom;
-    // p <- p - tau t, u <- u - tau K t; then projection p >= 0 and re-entry of penetrating
-    // nodes, whose (sparse) displacement change is added separately.
-    p -= tau * t_;
-    u_ -= tau * r_;
-    idx.clear(), val.clear();
-    restart = false;
-    std::int64_t left = 0;
-    for (Eigen::Index k = 0; k < p.size(); ++k) {
-      double e = 0.0;
-      if (S(k) > 0 && p(k) < 0.0) {
-        e = -p(k);
-        ++left;
-      } else if (S(k) == 0 && g_(k) < 0.0 && tau > 0.0) {
-        e = -tau * g_(k);
-        restart = true;
-      }
-      if (e != 0.0) p(k) += e, idx.push_back(k), val.push_back(e);
-    }
-    // Nodes leaving contact in bulk change S, and with it the problem CG was conjugating on
-    // (PK restart only on re-entry; measured, issue 12: ~3700 annulus nodes left while the
-    // residual climbed to 0.38 and stalled).
-    if (double(left) > kBulkExit * S.sum()) restart = true;
-    // Few changed nodes: direct summation (~n^2 per node) beats a convolution (~4 n^2 log n)
-    // below HalfSpace::sparse_limit(), measured in tools/bench/convolution.
-    if (idx.size() <= hs_.sparse_limit())
-      hs_.normal_add_sparse(idx, val, u_);
-    else
-      hs_.normal(p, u_);
-    if (force_control) {
-      const double scale = target / (p.sum() * area);
-      p *= scale;
-      u_ *= scale;
-    }
-  }
-  res.force = p.sum() * area;
-  res.indentation = delta;
+  Iteration iteration(*this, force_control, target, p, warm);
+  cg::Rules rules;
+  rules.tolerance = opt_.tolerance;
+  rules.last_pass = opt_.max_iterations;
+  const cg::Outcome out = cg::run(iteration, rules);
+  res.iterations = out.iterations;
+  res.residual = out.residual;
+  res.converged = out.converged;
+  res.force = p.sum() * grid.cell_area();
+  res.indentation = iteration.indentation();
   res.convolutions = int(hs_.convolutions() - conv0);
   if (!res.converged) {
     std::ostringstream msg;
@@ -195,13 +226,6 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
     throw SolverError(msg.str());
   }
   return res;
-}
-
-// The search direction's raw material: the gap g itself (Polonsky–Keer) or, preconditioned,
-// z = S K^-1 (S g) (preconditioned_direction).
-const Field& NormalSolver::precondition(const Eigen::ArrayXXd& S, bool force_control) {
-  if (!preconditioned(opt_, hs_.grid())) return g_;
-  return preconditioned_direction(hs_, S, g_, force_control, z_);
 }
 
 // Relative KKT residual: rms gap on S and rms penetration off S, over the rms displacement on S.

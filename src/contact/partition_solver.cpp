@@ -2,8 +2,9 @@
 #include <cmath>
 #include <limits>
 
+#include "fretbem/contact/cg_core.hpp"
 #include "fretbem/contact/tangential_solver.hpp"
-#include "tangential_detail.hpp"
+#include "workspace.hpp"
 
 namespace fretbem {
 
@@ -14,36 +15,69 @@ namespace {
 // Outer iterations without halving the best residual after which the partition is cycling.
 constexpr int kStagnantPartitions = 30;
 
-// Conjugate gradients for s = 0 on the stick set with the slip tractions held fixed
-// (under force control with the total force held: zero-mean directions). Returns iterations.
-int solve_stick_set(TangentialOperator& op, const TangentialIncrement& inc, const Field& stick,
-                    double tol_abs, int max_it, VecField& tau, VecField& u) {
-  const int nc = op.components();
-  VecField s(nc), d = op.zeros(), q;
-  double rr_old = 0.0;
-  for (int it = 0; it < max_it; ++it) {
-    const Eigen::VectorXd dU = shift_estimate(inc, u, stick);
-    double rr = 0.0;
-    for (int c = 0; c < nc; ++c) {
-      s[c] = stick * (dU(c) - (u[c] - (*inc.u0)[c]));
-      rr += s[c].square().sum();
+// Conjugate gradients for s = 0 on the stick set with the slip tractions held fixed (under
+// force control with the total force held: zero-mean directions), as a cg::run problem: linear,
+// stopped on the absolute rms slip without a confirming product.
+class StickSetCg {
+ public:
+  StickSetCg(TangentialOperator& op, const TangentialIncrement& inc, const Field& stick,
+             VecField& tau, VecField& u)
+      : op_(op), inc_(inc), stick_(stick), tau_(tau), u_(u), s_(op.components()), d_(op.zeros()) {}
+
+  double residual() {
+    const Eigen::VectorXd dU = shift_estimate(inc_, u_, stick_);
+    rr_ = 0.0;
+    for (int c = 0; c < op_.components(); ++c) {
+      s_[c] = stick_ * (dU(c) - (u_[c] - (*inc_.u0)[c]));
+      rr_ += s_[c].square().sum();
     }
-    if (std::sqrt(rr / std::max(1.0, stick.sum())) <= tol_abs) return it;
-    const double beta = it == 0 ? 0.0 : rr / rr_old;
-    rr_old = rr;
-    for (int c = 0; c < nc; ++c) d[c] = s[c] + beta * d[c];
-    op.apply(d, q);
+    return std::sqrt(rr_ / std::max(1.0, stick_.sum()));
+  }
+  cg::Next on_residual(int, const cg::Watch&) const { return cg::Next::proceed; }
+  void refresh() {}
+  bool exhausted(int, const cg::Watch&) const { return false; }
+  double gradient_product() const { return rr_; }
+
+  cg::Step step(double beta) {
+    const int nc = op_.components();
+    for (int c = 0; c < nc; ++c) d_[c] = s_[c] + beta * d_[c];
+    op_.apply(d_, q_);
     double den = 0.0;
     for (int c = 0; c < nc; ++c) {
       const double qbar =
-          inc.control == TangentialControl::force ? (stick * q[c]).sum() / stick.sum() : 0.0;
-      den += (stick * (q[c] - qbar) * d[c]).sum();
+          inc_.control == TangentialControl::force ? (stick_ * q_[c]).sum() / stick_.sum() : 0.0;
+      den += (stick_ * (q_[c] - qbar) * d_[c]).sum();
     }
-    if (!(den > 0.0)) return it;
-    const double alpha = rr / den;
-    for (int c = 0; c < nc; ++c) tau[c] += alpha * d[c], u[c] += alpha * q[c];
+    if (!(den > 0.0)) {
+      stopped_ = true;
+      return {cg::Next::stop};
+    }
+    const double alpha = rr_ / den;
+    for (int c = 0; c < nc; ++c) tau_[c] += alpha * d_[c], u_[c] += alpha * q_[c];
+    return {cg::Next::proceed, false};
   }
-  return max_it;
+  bool stopped() const { return stopped_; }
+
+ private:
+  TangentialOperator& op_;
+  const TangentialIncrement& inc_;
+  const Field& stick_;
+  VecField &tau_, &u_;
+  VecField s_, d_, q_;
+  double rr_ = 0.0;
+  bool stopped_ = false;
+};
+
+// Runs StickSetCg for at most max_it iterations; returns the iterations used.
+int solve_stick_set(TangentialOperator& op, const TangentialIncrement& inc, const Field& stick,
+                    double tol_abs, int max_it, VecField& tau, VecField& u) {
+  StickSetCg stick_cg(op, inc, stick, tau, u);
+  cg::Rules rules;
+  rules.tolerance = tol_abs;
+  rules.verify = false;
+  rules.last_pass = max_it - 1;
+  const cg::Outcome out = cg::run(stick_cg, rules);
+  return out.converged || stick_cg.stopped() ? out.iterations : max_it;
 }
 
 // Moves nodes across the partition. Slip nodes first, by the projected method's slip-node
@@ -52,14 +86,14 @@ int solve_stick_set(TangentialOperator& op, const TangentialIncrement& inc, cons
 // stick nodes over their bound start to slip, projected radially onto it. Returns the number
 // of nodes moved.
 //
-// The line search is the fix for the partition's cycling under Cerruti's x-y coupling (issue
-// 14 item 7, issue 18): the earlier undamped simultaneous step tau + s / C_ii is a Jacobi
-// iteration on the slip directions, and Jacobi on the dense Boussinesq/Cerruti kernel
-// overshoots every smooth mode (the off-diagonal row sum over a slip ring exceeds C_ii many
-// times). Under the analogy at 0 degrees a slip direction is a sign, so the overshoot is cut
-// off by the bound and harmless; under Cerruti the y-traction of the slip ring rotates, the
-// overshoot swings it from side to side, and nodes whose slip swings backwards fall in and out
-// of the stick set (measured: 4-7 nodes cycling, residual ~0.25 for 5000 iterations).
+// The line search keeps the partition from cycling under Cerruti's x-y coupling: an undamped
+// simultaneous step tau + s / C_ii would be a Jacobi iteration on the slip directions, and Jacobi
+// on the dense Boussinesq/Cerruti kernel overshoots every smooth mode (the off-diagonal row sum
+// over a slip ring exceeds C_ii many times). Under the analogy at 0 degrees a slip direction is a
+// sign, so the overshoot is cut off by the bound and harmless; under Cerruti the y-traction of the
+// slip ring rotates, the overshoot swings it from side to side, and nodes whose slip swings
+// backwards fall in and out of the stick set (measured: 4-7 nodes cycling, residual ~0.25 for 5000
+// iterations).
 int repartition(Workspace& w, Field& stick, VecField& tau, VecField& u) {
   const Field& g = *w.inc.bound;
   NodeSets& sets = w.sets;

@@ -5,7 +5,7 @@
 #include <limits>
 #include <sstream>
 
-#include "fretbem/contact/tangential_solver.hpp"
+#include "fretbem/contact/cg_core.hpp"
 #include "fretbem/core/errors.hpp"
 
 namespace fretbem {
@@ -65,19 +65,8 @@ class KxEstimate {
 
 StiffnessSolver::StiffnessSolver(TangentialOperator& op, double tolerance, int max_iterations,
                                  Precondition precondition)
-    : op_(op), tol_(tolerance), max_it_(max_iterations), precondition_(precondition) {
+    : op_(op), tol_(tolerance), max_it_(max_iterations), preconditioning_(precondition) {
   op_.half_space().require_tolerance(tol_, "stiffness solver");
-}
-
-bool StiffnessSolver::preconditioned(const std::vector<std::uint8_t>& stick) const {
-  if (precondition_ != Precondition::automatic) return precondition_ == Precondition::on;
-  // Fewer stick nodes than a large patch needs: no flood fill (a pass over the grid).
-  if (std::count(stick.begin(), stick.end(), std::uint8_t(1)) < ProjectedCgSolver::kPatchNodes)
-    return false;
-  const Grid& g = op_.grid();
-  Field set(g.nx, g.ny);
-  for (Eigen::Index k = 0; k < set.size(); ++k) set(k) = stick[std::size_t(k)];
-  return largest_contact_patch(set) >= ProjectedCgSolver::kPatchNodes;
 }
 
 // psi_ restricted to the new stick set, and u_ = C psi_ brought along: the nodes that left the
@@ -110,8 +99,74 @@ void StiffnessSolver::warm_start(const std::vector<std::uint8_t>& stick) {
   psi_set_ = stick;
 }
 
+// CG for C psi = e_x on the stick nodes as a cg::run problem: an unconstrained linear solve,
+// stopped on the energy value rather than confirmed on an exact product.
+class StiffnessSolver::Iteration {
+ public:
+  Iteration(StiffnessSolver& s, bool pre, KxEstimate& est) : s_(s), pre_(pre), est_(est) {}
+
+  // Residual r = S (e_x - C psi): a unit shift along x (component 0 in both bases).
+  double residual() {
+    const int nc = s_.op_.components();
+    double rr = 0.0, psi_r = 0.0, b_psi = 0.0;
+    for (const Eigen::Index k : s_.nodes_)
+      for (int c = 0; c < nc; ++c) {
+        const double r = (c == 0 ? 1.0 : 0.0) - s_.u_[c](k);
+        s_.r_[c](k) = r, rr += r * r, psi_r += s_.psi_[c](k) * r;
+      }
+    for (const Eigen::Index k : s_.nodes_) b_psi += s_.psi_[0](k);  // e_x . psi
+    rr_ = rr;
+    // The energy value J = 2 b.psi - psi.C psi = b.psi + psi.r (b = e_x on S): its error
+    // against b.C^-1 b is e.C e, quadratic in the CG error, where b.psi is linear in it.
+    est_.add(b_psi + psi_r);
+    return std::sqrt(rr) / std::sqrt(double(s_.nodes_.size()));
+  }
+  cg::Next on_residual(int, const cg::Watch&) const { return cg::Next::proceed; }
+  void refresh() {}
+  bool exhausted(int it, const cg::Watch&) const { return est_.converged() || it >= s_.max_it_; }
+
+  // Preconditioned CG (Vollebregt, J. Comput. Phys. 257, 2014): z = S K_z^-1 r; the analogy
+  // operator is (E*/G*) K_z and CG is blind to the factor; for Cerruti K_z^-1 per component
+  // is a spectrally equivalent SPD approximation (as in ProjectedCgSolver).
+  double gradient_product() {
+    G_ = rr_;
+    if (pre_) {
+      const int nc = s_.op_.components();
+      G_ = 0.0;
+      for (int c = 0; c < nc; ++c) s_.op_.half_space().normal_inverse(s_.r_[c], s_.z_[c]);
+      for (const Eigen::Index k : s_.nodes_)
+        for (int c = 0; c < nc; ++c) G_ += s_.r_[c](k) * s_.z_[c](k);
+    }
+    return G_;
+  }
+
+  cg::Step step(double beta) {
+    const int nc = s_.op_.components();
+    VecField &d = s_.d_, &q = s_.q_;
+    const VecField& z = pre_ ? s_.z_ : s_.r_;
+    for (const Eigen::Index k : s_.nodes_)
+      for (int c = 0; c < nc; ++c) d[c](k) = z[c](k) + beta * d[c](k);
+    s_.op_.apply(d, q);
+    double den = 0.0;
+    for (const Eigen::Index k : s_.nodes_)
+      for (int c = 0; c < nc; ++c) den += q[c](k) * d[c](k);
+    if (!(den > 0.0) || !(G_ > 0.0)) return {cg::Next::stop};
+    const double alpha = G_ / den;
+    for (const Eigen::Index k : s_.nodes_)
+      for (int c = 0; c < nc; ++c) s_.psi_[c](k) += alpha * d[c](k);
+    // u_ on the whole grid: the next step's stick set may reach beyond this one.
+    for (int c = 0; c < nc; ++c) s_.u_[c] += alpha * q[c];
+    return {cg::Next::proceed, false};
+  }
+
+ private:
+  StiffnessSolver& s_;
+  const bool pre_;
+  KxEstimate& est_;
+  double rr_ = 0.0, G_ = 0.0;
+};
+
 StiffnessResult StiffnessSolver::solve(const StateField& state) {
-  const int nc = op_.components();
   StiffnessResult res;
   std::vector<std::uint8_t> stick(std::size_t(state.size()));
   nodes_.clear();
@@ -130,54 +185,22 @@ StiffnessResult StiffnessSolver::solve(const StateField& state) {
       return res;
     }
   warm_start(stick);
-  const bool pre = res.preconditioned = preconditioned(stick);
+  const bool pre = res.preconditioned = preconditioning_.for_nodes(nodes_, [&] {
+    Field set(op_.grid().nx, op_.grid().ny);
+    for (Eigen::Index k = 0; k < set.size(); ++k) set(k) = stick[std::size_t(k)];
+    return set;
+  });
   // r_ and d_ are zero off the stick set: the preconditioner and the product read them whole.
   r_ = op_.zeros(), d_ = op_.zeros();
-  if (pre) z_.resize(nc);
-  const double bnorm = std::sqrt(double(nodes_.size()));
-  double G = 0.0, G_old = 1.0;
+  if (pre) z_.resize(op_.components());
   KxEstimate est(tol_);
-  for (int it = 0;; ++it) {
-    // Residual r = S (e_x - C psi): a unit shift along x (component 0 in both bases).
-    double rr = 0.0, psi_r = 0.0, b_psi = 0.0;
-    for (const Eigen::Index k : nodes_)
-      for (int c = 0; c < nc; ++c) {
-        const double r = (c == 0 ? 1.0 : 0.0) - u_[c](k);
-        r_[c](k) = r, rr += r * r, psi_r += psi_[c](k) * r;
-      }
-    for (const Eigen::Index k : nodes_) b_psi += psi_[0](k);  // e_x . psi
-    res.iterations = it;
-    res.residual = std::sqrt(rr) / bnorm;
-    // The energy value J = 2 b.psi - psi.C psi = b.psi + psi.r (b = e_x on S): its error
-    // against b.C^-1 b is e.C e, quadratic in the CG error, where b.psi is linear in it.
-    est.add(b_psi + psi_r);
-    if (res.residual <= tol_ || est.converged() || it >= max_it_) break;
-    // Preconditioned CG (Vollebregt, J. Comput. Phys. 257, 2014): z = S K_z^-1 r; the analogy
-    // operator is (E*/G*) K_z and CG is blind to the factor; for Cerruti K_z^-1 per component
-    // is a spectrally equivalent SPD approximation (as in ProjectedCgSolver).
-    G = rr;
-    if (pre) {
-      G = 0.0;
-      for (int c = 0; c < nc; ++c) op_.half_space().normal_inverse(r_[c], z_[c]);
-      for (const Eigen::Index k : nodes_)
-        for (int c = 0; c < nc; ++c) G += r_[c](k) * z_[c](k);
-    }
-    const double beta = it == 0 ? 0.0 : G / G_old;
-    G_old = G;
-    const VecField& z = pre ? z_ : r_;
-    for (const Eigen::Index k : nodes_)
-      for (int c = 0; c < nc; ++c) d_[c](k) = z[c](k) + beta * d_[c](k);
-    op_.apply(d_, q_);
-    double den = 0.0;
-    for (const Eigen::Index k : nodes_)
-      for (int c = 0; c < nc; ++c) den += q_[c](k) * d_[c](k);
-    if (!(den > 0.0) || !(G > 0.0)) break;
-    const double alpha = G / den;
-    for (const Eigen::Index k : nodes_)
-      for (int c = 0; c < nc; ++c) psi_[c](k) += alpha * d_[c](k);
-    // u_ on the whole grid: the next step's stick set may reach beyond this one.
-    for (int c = 0; c < nc; ++c) u_[c] += alpha * q_[c];
-  }
+  Iteration iteration(*this, pre, est);
+  cg::Rules rules;
+  rules.tolerance = tol_;
+  rules.verify = false;
+  const cg::Outcome out = cg::run(iteration, rules);
+  res.iterations = out.iterations;
+  res.residual = out.residual;
   if (!(res.residual <= tol_) && !est.converged()) {
     std::ostringstream msg;
     msg << "stiffness solve did not converge: residual " << res.residual << " after "

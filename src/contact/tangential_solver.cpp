@@ -4,7 +4,8 @@
 #include <limits>
 #include <type_traits>
 
-#include "tangential_detail.hpp"
+#include "fretbem/contact/cg_core.hpp"
+#include "workspace.hpp"
 
 namespace fretbem {
 
@@ -21,56 +22,17 @@ double coulomb_residual(const Grid& grid, const TangentialIncrement& inc, const 
 }
 
 ProjectedCgSolver::ProjectedCgSolver(TangentialOperator& op, TangentialOptions opt)
-    : op_(op), opt_(opt), cache_(std::make_unique<ScaleCache>()) {
+    : op_(op),
+      opt_(opt),
+      preconditioning_(opt.precondition),
+      cache_(std::make_unique<ScaleCache>()) {
   op_.half_space().require_tolerance(opt_.tolerance, "tangential solver");
 }
 
 ProjectedCgSolver::~ProjectedCgSolver() = default;
 
-std::int64_t largest_contact_patch(const Field& bound) {
-  const Eigen::Index nx = bound.rows(), ny = bound.cols();
-  std::vector<std::uint8_t> seen(std::size_t(bound.size()), 0);
-  std::vector<Eigen::Index> stack;
-  std::int64_t largest = 0;
-  for (Eigen::Index k0 = 0; k0 < bound.size(); ++k0) {
-    if (!(bound(k0) > 0.0) || seen[k0]) continue;
-    std::int64_t size = 0;
-    stack.assign(1, k0), seen[k0] = 1;
-    while (!stack.empty()) {  // flood fill over the 4-neighbours
-      const Eigen::Index k = stack.back(), i = k % nx, j = k / nx;
-      stack.pop_back(), ++size;
-      const Eigen::Index next[4] = {i > 0 ? k - 1 : -1, i + 1 < nx ? k + 1 : -1,
-                                    j > 0 ? k - nx : -1, j + 1 < ny ? k + nx : -1};
-      for (const Eigen::Index m : next)
-        if (m >= 0 && bound(m) > 0.0 && !seen[m]) seen[m] = 1, stack.push_back(m);
-    }
-    largest = std::max(largest, size);
-  }
-  return largest;
-}
-
-// Automatic: on when the largest contact patch is wide. Plain CG on the stick set needs
-// iterations growing with the patch's diameter (sqrt of the condition number), the Fourier
-// preconditioner removes that growth at the price of a second transform pair per iteration.
-// Measured (bench_tangential, CPU time PCG / plain): Hertz contact (one patch of 3252, 12900,
-// 51540 nodes at n = 128, 256, 512) 0.7, 0.5-0.6, 0.4; rough contact with largest patches of
-// 174-614 nodes 0.97-1.25, of 2407 nodes 0.74-0.83 (docs/performance.md).
 bool ProjectedCgSolver::preconditioned(const Field& bound) const {
-  if (opt_.precondition != Precondition::automatic) return opt_.precondition == Precondition::on;
-  return largest_contact_patch(bound) >= kPatchNodes;
-}
-
-// The flood fill is a pass over the grid per increment (4 % of a full-sliding step of
-// rough_monotone.ini, perf); fewer contact nodes than kPatchNodes cannot form such a patch.
-bool ProjectedCgSolver::preconditioned(const Field& bound,
-                                       const std::vector<Eigen::Index>& contact) {
-  if (opt_.precondition != Precondition::automatic) return opt_.precondition == Precondition::on;
-  if (std::int64_t(contact.size()) < kPatchNodes) return false;
-  if (contact != patch_key_) {
-    patch_key_ = contact;
-    patch_pre_ = largest_contact_patch(bound) >= kPatchNodes;
-  }
-  return patch_pre_;
+  return preconditioning_.for_set(bound);
 }
 
 TangentialResult ProjectedCgSolver::solve(const TangentialIncrement& inc, VecField& tau,
@@ -79,120 +41,199 @@ TangentialResult ProjectedCgSolver::solve(const TangentialIncrement& inc, VecFie
   return solve_components<2>(inc, tau, u);
 }
 
+namespace {
+
+// The CG step tau += alpha d, u += alpha q on the contact nodes, fused with the projection of
+// the stick nodes that it carried out of their disc (they start to slip).
+template <int NC>
+bool step_and_project(Workspace& w, double alpha, const VecField& d, const VecField& q,
+                      VecField& tau, VecField& u) {
+  const Field& g = *w.inc.bound;
+  const NodeSets& sets = w.sets;
+  w.slip.idx.clear();
+  for (auto& v : w.slip.val) v.clear();
+  for (std::size_t j = 0; j < sets.contact.size(); ++j) {
+    const Eigen::Index k = sets.contact[j];
+    if (alpha != 0.0)
+      for (int c = 0; c < NC; ++c) tau[c](k) += alpha * d[c](k), u[c](k) += alpha * q[c](k);
+    if (!sets.stick[j]) continue;
+    const Vec<NC> t = at<NC>(tau, k);
+    const double m = t.norm();
+    if (m <= g(k)) continue;
+    const Vec<NC> y = t * (g(k) / m);
+    w.slip.idx.push_back(k);
+    for (int c = 0; c < NC; ++c) w.slip.val[c].push_back(y(c) - t(c));
+    put<NC>(tau, k, y);
+  }
+  // u on the contact nodes only: the projected solver reads nothing else, and it ends on an
+  // exact product (its verification) that sets u everywhere.
+  w.op.add_sparse_at(w.slip.idx, w.slip.val, tau, sets.contact, u);
+  return !w.slip.idx.empty();
+}
+
+}  // namespace
+
 // Residual growth by this factor within one iteration restarts conjugacy. CG on a fixed set
 // does not keep the residual monotone, but a doubling in one step signals a change from
-// outside its recurrence (u recomputed, a force correction, nodes released or put back).
+// outside its recurrence (u recomputed, a force correction, nodes released or put back):
+// continuing with beta = G / g_old ~ 1e10 after such a jump made the iteration crawl.
 constexpr double kResidualJump = 2.0;
+// No new best residual for this many iterations: hand over to the fallbacks now rather than
+// after max_iterations (measured: a diverging force-controlled increment cycled with period
+// ~1500 iterations between residuals 0.39 and 0.62).
 constexpr int kStagnation = 1000;
 
+// CG on the stick set as a cg::run problem. The QP's gradient is -s; under force control s
+// has zero mean on the stick set (dU is that mean), so the directions keep the total force.
+// After each step the Workspace projects stick nodes that left their disc, moves the slip
+// nodes and restores the force.
 template <int NC>
-TangentialResult ProjectedCgSolver::solve_components(const TangentialIncrement& inc, VecField& tau,
-                                                     VecField& u) {
+class ProjectedCgSolver::Iteration {
   using Vec = Eigen::Matrix<double, NC, 1>;
-  Workspace w(op_, inc, opt_, *cache_);
-  w.start(tau, u);
-  const std::vector<Eigen::Index>& contact = w.sets.contact;
-  const std::vector<std::uint8_t>& stick = w.sets.stick;
-  const bool pre = preconditioned(*inc.bound, contact);
-  // Off contact the direction stays zero: only contact entries are ever written.
-  d_ = op_.zeros();
-  if (pre) r_ = op_.zeros(), z_.resize(NC);
-  auto slip = [&](const Vec& dU, Eigen::Index k) {
+
+ public:
+  Iteration(ProjectedCgSolver& s, Workspace& w, bool pre, VecField& tau, VecField& u)
+      : s_(s), w_(w), pre_(pre), tau_(tau), u_(u) {}
+
+  double residual() {  // classifies the stick set S
+    w_.result.residual = w_.residual(tau_, u_, G_);
+    return w_.result.residual;
+  }
+  cg::Next on_residual(int, const cg::Watch&) const { return cg::Next::proceed; }
+  void refresh() { s_.op_.apply(tau_, u_); }
+  bool exhausted(int it, const cg::Watch& w) const {
+    return it >= s_.opt_.max_iterations || it - w.best_it > kStagnation;
+  }
+
+  // G = s . s on S (from the residual), or s . z with the preconditioned z.
+  double gradient_product() {
+    zbar_ = Vec::Zero();
+    if (pre_ && w_.sets.nstick > 0) G_ = preconditioned_product();
+    return G_;
+  }
+
+  cg::Step step(double beta) {
+    const double num = direction(beta);
+    double alpha = 0.0;
+    if (G_ > 0.0) {
+      s_.op_.apply(s_.d_, s_.q_);
+      const double den = curvature();
+      if (den > 0.0) alpha = num / den;
+    }
+    // Then the slip nodes move by their line-searched local step, and the force error is
+    // redistributed (force control).
+    bool changed = step_and_project<NC>(w_, alpha, s_.d_, s_.q_, tau_, u_);
+    changed |= w_.slip_node_step(tau_, u_);
+    if (w_.inc.control == TangentialControl::force) w_.restore_force(tau_, u_);
+    return {cg::Next::proceed, changed || !(alpha > 0.0)};
+  }
+
+ private:
+  Vec slip(Eigen::Index k) const {
+    const Eigen::VectorXd& dU = w_.result.shift;
     Vec s;
-    for (int c = 0; c < NC; ++c) s(c) = dU(c) - (u[c](k) - (*inc.u0)[c](k));
+    for (int c = 0; c < NC; ++c) s(c) = dU(c) - (u_[c](k) - (*w_.inc.u0)[c](k));
     return s;
-  };
-  // A start imaged by one product needs no verifying product: u = C tau has not drifted yet.
-  bool restart = true, verified = w.exact;
-  double g_old = 1.0, last_residual = std::numeric_limits<double>::infinity();
-  double best = last_residual;
-  int best_it = 0;
-  for (int it = 0;; ++it) {
-    w.result.iterations = it;
+  }
+
+  // Preconditioned direction z = S K^-1 (S s): the Fourier inverse of the kernel, as the
+  // normal solver's PCG (Vollebregt, J. Comput. Phys. 257, 2014). The analogy operator is
+  // (E*/G*) K_z and CG is blind to the constant factor; for Cerruti K_z^-1 per component is a
+  // spectrally equivalent SPD approximation. Under force control z is made mean-free on S so
+  // that the directions keep the force (s . z is unchanged: s is mean-free on S).
+  double preconditioned_product() {
+    const auto& contact = w_.sets.contact;
+    const auto& stick = w_.sets.stick;
+    VecField &r = s_.r_, &z = s_.z_;
+    for (std::size_t j = 0; j < contact.size(); ++j) {
+      const Vec s = stick[j] ? slip(contact[j]) : Vec::Zero();
+      for (int c = 0; c < NC; ++c) r[c](contact[j]) = s(c);
+    }
+    for (int c = 0; c < NC; ++c) s_.op_.half_space().normal_inverse(r[c], z[c]);
+    if (w_.inc.control == TangentialControl::force) {
+      for (std::size_t j = 0; j < contact.size(); ++j)
+        if (stick[j])
+          for (int c = 0; c < NC; ++c) zbar_(c) += z[c](contact[j]);
+      zbar_ /= double(w_.sets.nstick);
+    }
     double G = 0.0;
-    w.result.residual = w.residual(tau, u, G);  // classifies the stick set S
-    // Conjugacy holds only for the residual it was built on: a residual that jumps (u
-    // recomputed, a force correction, nodes released) starts a new Krylov space. Continuing
-    // with beta = G / g_old ~ 1e10 after such a jump made the iteration crawl (issue 12).
-    if (w.result.residual > kResidualJump * last_residual) restart = true;
-    last_residual = w.result.residual;
-    if (w.result.residual < best) best = w.result.residual, best_it = it;
-    if (w.result.residual <= opt_.tolerance) {
-      if (verified) {
-        w.result.converged = true;
-        break;
-      }
-      op_.apply(tau, u);  // drop round-off of the incremental updates, then check again
-      verified = true, restart = true;
-      continue;
+    for (std::size_t j = 0; j < contact.size(); ++j) {
+      if (!stick[j]) continue;
+      const Eigen::Index k = contact[j];
+      for (int c = 0; c < NC; ++c) G += (r[c](k)) * (z[c](k) - zbar_(c));
     }
-    verified = false;
-    // No new best residual for kStagnation iterations: hand over to the fallbacks now rather
-    // than after max_iterations (measured: a diverging force-controlled increment cycled with
-    // period ~1500 iterations between residuals 0.39 and 0.62).
-    if (it >= opt_.max_iterations || it - best_it > kStagnation) break;
-    // CG on the stick set. The QP's gradient is -s; under force control s has zero mean on
-    // the stick set (dU is that mean), so the directions keep the total force.
-    const Vec dU = w.result.shift;
-    Vec zbar = Vec::Zero();
-    if (pre && w.sets.nstick > 0) {
-      // Preconditioned direction z = S K^-1 (S s): the Fourier inverse of the kernel, as the
-      // normal solver's PCG (Vollebregt, J. Comput. Phys. 257, 2014). The analogy operator is
-      // (E*/G*) K_z and CG is blind to the constant factor; for Cerruti K_z^-1 per component
-      // is a spectrally equivalent SPD approximation. Under force control z is made mean-free
-      // on S so that the directions keep the force (s . z is unchanged: s is mean-free on S).
-      for (std::size_t j = 0; j < contact.size(); ++j) {
-        const Vec s = stick[j] ? slip(dU, contact[j]) : Vec::Zero();
-        for (int c = 0; c < NC; ++c) r_[c](contact[j]) = s(c);
-      }
-      for (int c = 0; c < NC; ++c) op_.half_space().normal_inverse(r_[c], z_[c]);
-      if (inc.control == TangentialControl::force) {
-        for (std::size_t j = 0; j < contact.size(); ++j)
-          if (stick[j])
-            for (int c = 0; c < NC; ++c) zbar(c) += z_[c](contact[j]);
-        zbar /= double(w.sets.nstick);
-      }
-      G = 0.0;
-      for (std::size_t j = 0; j < contact.size(); ++j) {
-        if (!stick[j]) continue;
-        const Eigen::Index k = contact[j];
-        for (int c = 0; c < NC; ++c) G += (r_[c](k)) * (z_[c](k) - zbar(c));
-      }
-    }
-    const double beta = restart ? 0.0 : G / g_old;
-    g_old = G;
+    return G;
+  }
+
+  // d = z + beta d on S (zero elsewhere); returns s . d.
+  double direction(double beta) {
+    const auto& contact = w_.sets.contact;
+    const auto& stick = w_.sets.stick;
+    VecField& d = s_.d_;
     double num = 0.0;
     for (std::size_t j = 0; j < contact.size(); ++j) {
       const Eigen::Index k = contact[j];
       if (!stick[j]) {
-        for (int c = 0; c < NC; ++c) d_[c](k) = 0.0;
+        for (int c = 0; c < NC; ++c) d[c](k) = 0.0;
         continue;
       }
-      const Vec s = slip(dU, k);
+      const Vec s = slip(k);
       for (int c = 0; c < NC; ++c) {
-        d_[c](k) = (pre ? z_[c](k) - zbar(c) : s(c)) + beta * d_[c](k);
-        num += s(c) * d_[c](k);
+        d[c](k) = (pre_ ? s_.z_[c](k) - zbar_(c) : s(c)) + beta * d[c](k);
+        num += s(c) * d[c](k);
       }
     }
-    double alpha = 0.0;
-    if (G > 0.0) {
-      op_.apply(d_, q_);
-      // d . C d on S, with q made mean-free on S under force control (the multiplier dU
-      // absorbs the mean).
-      Vec qd = Vec::Zero(), qsum = Vec::Zero(), dsum = Vec::Zero();
-      for (std::size_t j = 0; j < contact.size(); ++j) {
-        if (!stick[j]) continue;
-        const Eigen::Index k = contact[j];
-        for (int c = 0; c < NC; ++c)
-          qd(c) += q_[c](k) * d_[c](k), qsum(c) += q_[c](k), dsum(c) += d_[c](k);
-      }
-      double den = qd.sum();
-      if (inc.control == TangentialControl::force)
-        den -= qsum.dot(dsum) / double(std::max<std::int64_t>(1, w.sets.nstick));
-      if (den > 0.0) alpha = num / den;
-    }
-    restart = w.step_and_project(alpha, d_, q_, tau, u) || !(alpha > 0.0);
+    return num;
   }
+
+  // d . C d on S, with q made mean-free on S under force control (the multiplier dU absorbs
+  // the mean).
+  double curvature() const {
+    const auto& contact = w_.sets.contact;
+    const auto& stick = w_.sets.stick;
+    const VecField &d = s_.d_, &q = s_.q_;
+    Vec qd = Vec::Zero(), qsum = Vec::Zero(), dsum = Vec::Zero();
+    for (std::size_t j = 0; j < contact.size(); ++j) {
+      if (!stick[j]) continue;
+      const Eigen::Index k = contact[j];
+      for (int c = 0; c < NC; ++c)
+        qd(c) += q[c](k) * d[c](k), qsum(c) += q[c](k), dsum(c) += d[c](k);
+    }
+    double den = qd.sum();
+    if (w_.inc.control == TangentialControl::force)
+      den -= qsum.dot(dsum) / double(std::max<std::int64_t>(1, w_.sets.nstick));
+    return den;
+  }
+
+  ProjectedCgSolver& s_;
+  Workspace& w_;
+  const bool pre_;
+  VecField &tau_, &u_;
+  double G_ = 0.0;
+  Vec zbar_ = Vec::Zero();  // mean of z on S (force control), subtracted from the direction
+};
+
+template <int NC>
+TangentialResult ProjectedCgSolver::solve_components(const TangentialIncrement& inc, VecField& tau,
+                                                     VecField& u) {
+  Workspace w(op_, inc, opt_, *cache_);
+  w.start(tau, u);
+  const bool pre =
+      preconditioning_.for_nodes(w.sets.contact, [&]() -> const Field& { return *inc.bound; });
+  // Off contact the direction stays zero: only contact entries are ever written.
+  d_ = op_.zeros();
+  if (pre) r_ = op_.zeros(), z_.resize(NC);
+  Iteration<NC> iteration(*this, w, pre, tau, u);
+  cg::Rules rules;
+  rules.tolerance = opt_.tolerance;
+  rules.verify = true;
+  // A start imaged by one product needs no verifying product: u = C tau has not drifted yet.
+  rules.verified_at_start = w.exact;
+  rules.restart_after_verify = true;
+  rules.jump = kResidualJump;
+  const cg::Outcome out = cg::run(iteration, rules);
+  w.result.iterations = out.iterations;
+  w.result.converged = out.converged;
   return w.finish(tau, "projected-CG");
 }
 

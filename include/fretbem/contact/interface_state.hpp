@@ -28,7 +28,7 @@ struct InterfaceState {
 
   /// All fields zero on the grid, with the operator's number of components.
   static InterfaceState zeros(const TangentialOperator& op);
-  /// Classifies nodes by the state of the step, not by its history (issue 17 §2): open where
+  /// Classifies nodes by the state of the step, not by its history: open where
   /// the bound g = 0; slip where the node is on its bound (|tau| >= g (1 - eps), eps the solver
   /// tolerance guarding round-off) and its slip this step |s| exceeds slip_threshold (m);
   /// stuck_at_bound where on the bound but not slipping; stick inside the bound.

@@ -5,20 +5,18 @@
 
 #include <string>
 
+#include "fretbem/core/solver_options.hpp"
 #include "fretbem/elastic/grid.hpp"
 #include "fretbem/elastic/half_space.hpp"
 
 namespace fretbem {
 
-/// Fourier preconditioning of the normal CG: automatic = on from 256 x 256 cells, where
-/// bench_normal_cost measured it 0.6-0.8x the plain CG's time (and ~1.05x at 128 x 128).
-enum class Precondition { off, on, automatic };
-
 struct NormalOptions {
   double tolerance = 1e-10;  ///< relative gap residual at which the solve stops
   int max_iterations = 2000;
   /// Preconditioned CG with M^-1 = S K^-1 S (S the contact set, K^-1 the Fourier inverse of
-  /// the kernel): fewer iterations at the price of a second convolution per iteration.
+  /// the kernel): fewer iterations at the price of a second convolution per iteration;
+  /// automatic: PreconditionDecision::for_grid.
   Precondition precondition = Precondition::automatic;
 };
 
@@ -50,9 +48,10 @@ class NormalSolver {
   const Grid& grid() const { return hs_.grid(); }
 
  private:
+  class Iteration;  // the CG problem of one solve (normal_solver.cpp)
+
   NormalResult solve(const Field& z, bool force_control, double target, Field& p);
   void initial_guess(bool force_control, double target, Field& p) const;
-  const Field& precondition(const Eigen::ArrayXXd& S, bool force_control);
   double gap_residual(bool force_control, double delta, const Field& p, double* delta_out);
 
   HalfSpace& hs_;

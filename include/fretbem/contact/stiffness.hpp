@@ -1,6 +1,6 @@
 // Exact differential tangential stiffness k_x = dF_x/dU_x of the current stick set
-// (DESIGN §1 "Observables"): one linear solve with a unit rigid shift on the stick nodes and a
-// zero traction increment on slip and open nodes — no finite differences.
+// (docs/algorithms.md, "Differential stiffness"): one linear solve with a unit rigid shift on the
+// stick nodes and a zero traction increment on slip and open nodes — no finite differences.
 #pragma once
 
 #include <cstdint>
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "fretbem/contact/interface_state.hpp"
-#include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/contact/preconditioning.hpp"
 #include "fretbem/contact/tangential_operator.hpp"
 
 namespace fretbem {
@@ -26,8 +26,7 @@ class StiffnessSolver {
  public:
   /// Throws InputError when tolerance is below the operator's min_tolerance() (float FFTs).
   /// `precondition`: Fourier preconditioner z = S K_z^-1 S r of the CG (as the projected
-  /// tangential CG; automatic: on when the largest stick patch has
-  /// ProjectedCgSolver::kPatchNodes nodes or more).
+  /// tangential CG; automatic: PreconditionDecision::for_set of the stick nodes).
   StiffnessSolver(TangentialOperator& op, double tolerance, int max_iterations,
                   Precondition precondition = Precondition::automatic);
   /// Solves C psi = e_x on the stick nodes of `state` (psi = 0 elsewhere), warm-started from
@@ -39,13 +38,13 @@ class StiffnessSolver {
   StiffnessResult solve(const StateField& state);
 
  private:
-  bool preconditioned(const std::vector<std::uint8_t>& stick) const;
+  class Iteration;  // the CG problem of one solve (stiffness.cpp)
   void warm_start(const std::vector<std::uint8_t>& stick);
 
   TangentialOperator& op_;
   double tol_;
   int max_it_;
-  Precondition precondition_;
+  PreconditionDecision preconditioning_;
   std::vector<Eigen::Index> nodes_;    ///< grid indices of the stick nodes of this solve
   std::vector<std::uint8_t> psi_set_;  ///< stick flags (per grid node) psi_ is supported on
   VecField psi_, u_, r_, z_, d_, q_;   ///< u_ = C psi_ on the whole grid

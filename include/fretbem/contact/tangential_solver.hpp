@@ -1,5 +1,5 @@
 // TangentialSolver: one load increment of the frictional (Coulomb) tangential contact at fixed
-// pressure, as the strictly convex QP of DESIGN §1 "History":
+// pressure, as the strictly convex QP of docs/algorithms.md:
 //   min_tau 1/2 (tau - tau0)^T C (tau - tau0) - (tau - tau0) . dU   s.t. |tau_i| <= g_i,
 // g_i = mu p_i. Its optimality conditions are Coulomb's law for the slip increment
 // s_i = dU - (u_i - u0_i): stick (s_i = 0, |tau_i| <= g_i) or slip (|tau_i| = g_i, tau_i || s_i).
@@ -12,6 +12,7 @@
 #include <string>
 
 #include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/contact/preconditioning.hpp"
 #include "fretbem/contact/tangential_operator.hpp"
 
 namespace fretbem {
@@ -76,22 +77,20 @@ class ProjectedCgSolver final : public TangentialSolver {
   ~ProjectedCgSolver() override;
   TangentialResult solve(const TangentialIncrement& inc, VecField& tau, VecField& u) override;
   /// Whether solve() preconditions an increment with this bound (TangentialOptions::
-  /// precondition; automatic: on when the largest contact patch has kPatchNodes nodes or more).
+  /// precondition; automatic: PreconditionDecision::for_set of the contact nodes).
   bool preconditioned(const Field& bound) const;
-  /// Automatic preconditioning from this largest contact patch (a disc of radius ~25 cells).
-  static constexpr std::int64_t kPatchNodes = 2048;
+  /// Automatic preconditioning from this largest contact patch (PreconditionDecision).
+  static constexpr std::int64_t kPatchNodes = PreconditionDecision::kPatchNodes;
 
  private:
   template <int NC>
+  class Iteration;  // the CG problem of one increment (tangential_solver.cpp)
+  template <int NC>
   TangentialResult solve_components(const TangentialIncrement& inc, VecField& tau, VecField& u);
-  /// preconditioned(bound) for a bound whose positive nodes are `contact`, remembered for that
-  /// set: the bound changes only with the normal solution.
-  bool preconditioned(const Field& bound, const std::vector<Eigen::Index>& contact);
 
   TangentialOperator& op_;
   TangentialOptions opt_;
-  std::vector<Eigen::Index> patch_key_;  // contact set of the last flood fill, and its answer
-  bool patch_pre_ = false;
+  PreconditionDecision preconditioning_;  // remembers the flood fill of the last contact set
   VecField d_, q_, r_, z_;  // direction, its image C d; preconditioner input S s, output
   // Displacement scale |C g|, reused while the bound is unchanged.
   std::unique_ptr<tangential_detail::ScaleCache> cache_;
@@ -117,10 +116,6 @@ class PartitionSolver final : public TangentialSolver {
 /// Under force control dU is the mean of u - u0 over stick nodes.
 double coulomb_residual(const Grid& grid, const TangentialIncrement& inc, const VecField& tau,
                         const VecField& u, double scale, Eigen::VectorXd& dU, VecField& s);
-
-/// Nodes of the largest 4-connected patch of contact nodes (bound > 0). Decides the automatic
-/// preconditioning of ProjectedCgSolver.
-std::int64_t largest_contact_patch(const Field& bound);
 
 /// Stick-node tolerance: a node with |tau| < g (1 - kBoundEps) is free to stick; slip nodes sit
 /// on the bound up to round-off because they are placed there by projection.

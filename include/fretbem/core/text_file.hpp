@@ -23,9 +23,9 @@ inline void drop_utf8_bom(std::string& line) {
 /// Writes `text` to PATH atomically: PATH.tmp is written, flushed and fsynced with every call
 /// checked, then renamed over PATH and the folder fsynced (checkpoints use it too). On any failure
 /// (a full disk, a read-only or missing folder) the temporary file is removed, PATH keeps its
-/// previous contents, and std::runtime_error says "PATH: cannot write: <system message>". Before,
-/// an unchecked stream renamed a truncated sweep.csv over a good one on a full disk, with exit 0
-/// (issue 14, session 6).
+/// previous contents, and std::runtime_error says "PATH: cannot write: <system message>". An
+/// unchecked stream would rename a truncated file (a sweep.csv) over a good one on a full disk
+/// and exit 0.
 void write_file_atomically(const std::filesystem::path& path, std::string_view text);
 
 /// Creates DIR (and its parents) for results; InputError "DIR: cannot create the output

@@ -1,7 +1,7 @@
 // HalfSpace: the elastic half-space operator. Maps cell tractions (Pa) to surface
 // displacements (m) at the cell centres by FFT convolution with exact cell influence
-// coefficients (DESIGN §1). FFTW plans, work buffers and kernel spectra live here and are built
-// once per grid.
+// coefficients (docs/algorithms.md, "Half-space operator"). FFTW plans, work buffers and kernel
+// spectra are built once per grid.
 #pragma once
 
 #include <cstdint>
@@ -18,7 +18,7 @@ enum class Coupling {
   analogy,  ///< Cattaneo–Mindlin analogy: u_t = (E*/G*) K_z * tau, componentwise (default)
   cerruti,  ///< full Cerruti cell coefficients, with the x-y cross terms
   /// Cerruti, plus the normal-tangential (Dundurs beta) cross terms between pressure and
-  /// traction: normal_of_traction / tangential_of_pressure (issue 17 §5)
+  /// traction: normal_of_traction / tangential_of_pressure
   coupled
 };
 

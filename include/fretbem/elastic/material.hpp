@@ -1,4 +1,4 @@
-// Material: the effective elastic constants of the contact pair (DESIGN §1).
+// Material: the effective elastic constants of the contact pair (README, "Conventions and physics").
 #pragma once
 
 #include <optional>

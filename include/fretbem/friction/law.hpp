@@ -1,7 +1,7 @@
-// Friction laws: the Coulomb bound g_i = mu_i p_i of every node (DESIGN §2 "Laws are small
-// interfaces"). The stepper asks the law for the bound before each step and keeps it fixed
-// within the step, so every increment stays the convex problem of DESIGN §1; the law may change
-// mu_i between steps from the node's history. Nothing else knows which law is in use.
+// Friction laws: the Coulomb bound g_i = mu_i p_i of every node (docs/architecture.md, "Laws are
+// small interfaces"). The stepper asks the law for the bound before each step and keeps it fixed
+// within the step, so every increment stays the convex problem of docs/algorithms.md; the law
+// may change mu_i between steps from the node's history. Nothing else knows which law is in use.
 #pragma once
 
 #include <algorithm>
@@ -24,7 +24,7 @@ class FrictionLaw {
   virtual double min_mu() const = 0;
 };
 
-/// Coulomb with constant mu (the default): g = mu p, bit for bit the bound of earlier versions.
+/// Coulomb with constant mu (the default): g = mu p.
 class ConstantFriction final : public FrictionLaw {
  public:
   explicit ConstantFriction(double mu) : mu_(mu) {}

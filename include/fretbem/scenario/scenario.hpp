@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/core/solver_options.hpp"
 #include "fretbem/elastic/grid.hpp"
 #include "fretbem/elastic/half_space.hpp"
 #include "fretbem/elastic/material.hpp"

@@ -1,0 +1,140 @@
+// The force projection of the tangential solvers: a common shift of the movable nodes'
+// tractions that restores the imposed total force, and its displacement.
+#include <Eigen/Dense>
+#include <vector>
+
+#include "workspace.hpp"
+
+namespace fretbem::tangential_detail {
+
+// Euclidean projection onto {|tau_i| <= g_i, sum tau h^2 = F} over a set of movable nodes:
+// tau_i <- P_i(tau_i + lambda) with one shift lambda, found by safeguarded Newton on the
+// monotone map lambda -> sum P_i(tau_i + lambda) (the gradient of a convex function; its
+// Jacobian is the sum of the disc projections' Jacobians). Stick nodes move first: shifting
+// slip nodes as well would turn them against their slip and, in 2-D, make the iteration cycle.
+// Only when the stick nodes cannot carry the force (a reversal under force control) do all
+// contact nodes move, which gives a feasible state of the right force.
+void Workspace::restore_force(VecField& tau, VecField& u) {
+  if (inc.control != TangentialControl::force) return;
+  const Field& g = *inc.bound;
+  const double tol = 1e-15 * gsum;
+  const Eigen::VectorXd want = inc.target / op.grid().cell_area();
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(op.components());
+  for (const Eigen::Index k : sets.contact)
+    for (int c = 0; c < op.components(); ++c) sum(c) += tau[c](k);
+  if ((sum - want).norm() <= tol) return;
+  sets.classify(g, tau);
+  const ForceShift fs = shift_to_force(false, want, tau);
+  if (fs.mismatch > tol) {
+    shift_to_force(true, want, tau);
+    op.apply(tau, u);
+    return;
+  }
+  // Every stick node moved by the same lambda (none reached its bound) and the components are
+  // decoupled (analogy): u changes by lambda C 1_S. C 1_S is kept, and when the stick set S
+  // changes by few nodes it is updated by direct summation over them, so the correction
+  // usually costs no convolution.
+  if (!fs.uniform || op.half_space().coupling() != Coupling::analogy) {
+    op.apply(tau, u);
+    return;
+  }
+  if (stick_image.stick != sets.stick) update_stick_image();
+  // Full field (one cheap pass): the partition solver returns this u as C tau everywhere.
+  for (std::size_t c = 0; c < u.size(); ++c) u[c] += fs.lambda(c) * stick_image.image;
+}
+
+void Workspace::update_stick_image() {
+  HalfSpace& hs = op.half_space();
+  std::vector<Eigen::Index> changed;
+  std::vector<double> sign;
+  if (stick_image.stick.size() == sets.stick.size()) {
+    for (std::size_t j = 0; j < sets.contact.size(); ++j)
+      if (stick_image.stick[j] != sets.stick[j])
+        changed.push_back(sets.contact[j]), sign.push_back(sets.stick[j] ? 1.0 : -1.0);
+  }
+  if (!changed.empty() && changed.size() <= hs.sparse_limit()) {
+    hs.tangential_add_sparse(changed, sign, stick_image.image);
+  } else {
+    Field load = op.grid().zeros();
+    for (std::size_t j = 0; j < sets.contact.size(); ++j) load(sets.contact[j]) = sets.stick[j];
+    hs.tangential_analogy(load, stick_image.image);
+  }
+  stick_image.stick = sets.stick;
+}
+
+namespace {
+
+template <int NC>
+ForceShift shift_to_force_impl(const NodeSets& sets, const Field& g, double gsum, bool all,
+                               const Eigen::VectorXd& want_, VecField& tau) {
+  const Vec<NC> want = want_;
+  // The movable nodes' starting traction; the others contribute a constant to the total.
+  std::vector<Eigen::Index> nodes;
+  std::vector<Vec<NC>, Eigen::aligned_allocator<Vec<NC>>> base;
+  Vec<NC> fixed = Vec<NC>::Zero();
+  for (std::size_t j = 0; j < sets.contact.size(); ++j) {
+    const Eigen::Index k = sets.contact[j];
+    if (all || sets.stick[j])
+      nodes.push_back(k), base.push_back(at<NC>(tau, k));
+    else
+      fixed += at<NC>(tau, k);
+  }
+  bool clamped = false;
+  auto apply = [&](const Vec<NC>& l, Vec<NC>& sum, Mat<NC>& J) {
+    sum = fixed;
+    J.setZero();
+    clamped = false;
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      const Eigen::Index k = nodes[i];
+      Vec<NC> y = base[i] + l;
+      const double m = y.norm();
+      if (m <= g(k)) {
+        J += Mat<NC>::Identity();
+      } else {
+        J += (g(k) / m) * (Mat<NC>::Identity() - y * y.transpose() / (m * m));
+        y *= g(k) / m;
+        clamped = true;
+      }
+      put<NC>(tau, k, y);
+      sum += y;
+    }
+  };
+  Vec<NC> lambda = Vec<NC>::Zero(), sum, trial;
+  Mat<NC> J, trial_J;
+  apply(lambda, sum, J);
+  double err = (sum - want).norm();
+  bool at_lambda = true;  // tau holds P(base + lambda)
+  // Typically one Newton step: while no stick node reaches its bound the map is linear.
+  for (int it = 0; it < 200 && err > 1e-15 * gsum; ++it) {
+    // Newton step (regularised where the map is flat), halved until the mismatch shrinks.
+    J += (1e-12 * J.trace() + 1e-300) * Mat<NC>::Identity();
+    Vec<NC> step = J.ldlt().solve(want - sum);
+    int half = 0;
+    for (; half < 60; ++half, step *= 0.5) {
+      apply(lambda + step, trial, trial_J);
+      if ((trial - want).norm() < err) break;
+    }
+    if (half == 60) {  // no shift of these nodes reduces the mismatch
+      at_lambda = false;
+      break;
+    }
+    lambda += step, sum = trial, J = trial_J;
+    err = (sum - want).norm();
+  }
+  if (!at_lambda) apply(lambda, sum, J);
+  ForceShift r;
+  r.mismatch = err;
+  r.lambda = lambda;
+  r.uniform = !clamped && !nodes.empty();
+  return r;
+}
+
+}  // namespace
+
+ForceShift Workspace::shift_to_force(bool all, const Eigen::VectorXd& want, VecField& tau) const {
+  return by_components(int(tau.size()), [&](auto nc) {
+    return shift_to_force_impl<decltype(nc)::value>(sets, *inc.bound, gsum, all, want, tau);
+  });
+}
+
+}  // namespace fretbem::tangential_detail

@@ -1,0 +1,74 @@
+// The contact and stick nodes of one tangential increment and Coulomb's law on them: the
+// residual, the rigid-shift estimate, the projections onto the discs. Internal to src/contact.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "fretbem/contact/tangential_solver.hpp"
+#include "node_vectors.hpp"
+
+namespace fretbem::tangential_detail {
+
+/// |tau| per node.
+Field magnitude(const VecField& tau);
+/// 1 where a node is in contact and strictly inside its Coulomb disc (free to stick), else 0.
+Field free_mask(const Field& g, const Field& mag);
+/// Total force sum tau h^2 per component (N).
+Eigen::VectorXd total_force(const VecField& tau, const Grid& grid);
+/// Largest attainable tangential force sum g h^2 (N).
+double bound_force(const Field& g, const Grid& grid);
+/// dU: imposed (displacement control) or the mean of u - u0 over stick nodes (force control).
+Eigen::VectorXd shift_estimate(const TangentialIncrement& inc, const VecField& u,
+                               const Field& free);
+/// Force control at or past full sliding: |F| >= sum g h^2 (1 - tolerance).
+bool past_full_sliding(const TangentialIncrement& inc, const Grid& grid, double tolerance);
+/// Projects every node onto its disc |tau| <= g (open nodes to zero); true if anything moved.
+bool project_all(const Field& g, VecField& tau);
+
+/// The contact nodes of one increment (g > 0, fixed while the pressure is) and which of them
+/// stick. Every per-iteration pass of the projected solver runs over this list instead of the
+/// whole grid: off contact tau = 0 and nothing is read (u there is only refreshed by the exact
+/// products).
+struct NodeSets {
+  explicit NodeSets(const Field& g);
+  /// Marks the contact nodes strictly inside their disc as stick; returns how many.
+  std::int64_t classify(const Field& g, const VecField& tau);
+
+  std::vector<Eigen::Index> contact;  ///< grid index of each contact node
+  std::vector<std::uint8_t> stick;    ///< per contact node: 1 stick, 0 slip
+  std::int64_t nstick = 0;
+};
+
+/// Coulomb residual (see TangentialResult::residual) over the contact nodes; classifies the
+/// stick set first and returns dU and the squared stick slip sum_S |s|^2 (the CG gradient norm).
+double residual(NodeSets& sets, const TangentialIncrement& inc, const VecField& tau,
+                const VecField& u, double scale, const Grid& grid, Eigen::VectorXd& dU,
+                double& stick_slip2);
+
+/// Displacement scale |C g| (rms over contact), recomputed only when the bound changes.
+class ScaleCache {
+ public:
+  double get(TangentialOperator& op, const Field& g);
+
+ private:
+  Field g_;
+  double scale_ = 1.0;
+};
+
+/// dU: imposed (displacement control), or the mean of u - u0 over the stick nodes (over all
+/// contact nodes when none sticks) under force control.
+template <int NC>
+Vec<NC> mean_shift(const NodeSets& sets, const TangentialIncrement& inc, const VecField& u) {
+  if (inc.control == TangentialControl::displacement) return inc.target;
+  const bool all = sets.nstick == 0;
+  Vec<NC> sum = Vec<NC>::Zero();
+  for (std::size_t j = 0; j < sets.contact.size(); ++j) {
+    if (!all && !sets.stick[j]) continue;
+    const Eigen::Index k = sets.contact[j];
+    sum += at<NC>(u, k) - at<NC>(*inc.u0, k);
+  }
+  return sum / std::max(1.0, double(all ? sets.contact.size() : sets.nstick));
+}
+
+}  // namespace fretbem::tangential_detail

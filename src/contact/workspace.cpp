@@ -1,0 +1,111 @@
+#include "workspace.hpp"
+
+#include <sstream>
+
+#include "fretbem/core/errors.hpp"
+
+namespace fretbem::tangential_detail {
+
+Workspace::Workspace(TangentialOperator& op_, const TangentialIncrement& inc_,
+                     TangentialOptions opt_, ScaleCache& cache)
+    : op(op_), inc(inc_), opt(opt_), sets(*inc_.bound) {
+  conv0 = op.half_space().convolutions();
+  scale = cache.get(op, *inc.bound);
+  if (past_full_sliding(inc, op.grid(), opt.tolerance)) {
+    const double fmax = bound_force(*inc.bound, op.grid());
+    {
+      std::ostringstream msg;
+      msg << "tangential force " << inc.target.norm() << " N is not below the full-sliding force "
+          << "mu F_z = " << fmax << " N: force control cannot go past full sliding";
+      throw SolverError(msg.str());
+    }
+  }
+  gsum = inc.bound->sum();
+  slip.step = op.zeros(), slip.image = op.zeros();
+  slip.val.resize(op.components());
+  slip.back_val.resize(op.components());
+}
+
+void Workspace::start(VecField& tau, VecField& u) {
+  const bool moved = project_all(*inc.bound, tau);
+  if (moved || u.size() != tau.size()) op.apply(tau, u), exact = true;
+  if (inc.control == TangentialControl::force) start_force(tau, u);
+  if (inc.guess) start_guess(tau, u);
+}
+
+double Workspace::energy(const VecField& t, const VecField& w) const {
+  double e = 0.0;
+  for (std::size_t c = 0; c < t.size(); ++c) {
+    const Field dt = t[c] - (*inc.tau0)[c];
+    e += 0.5 * (dt * (w[c] - (*inc.u0)[c])).sum();
+    // Under force control sum dtau is fixed, so the shift term is the same for every start.
+    if (inc.control == TangentialControl::displacement) e -= inc.target(c) * dt.sum();
+  }
+  return e;
+}
+
+// The predictor made feasible (inside the discs; under force control shifted to the target
+// force as start_force does), imaged by one product, and kept when its QP energy is below the
+// current start's. A predictor close to the solution (the same step of the previous cycle of
+// a periodic history) then leaves the solver little or nothing to do.
+void Workspace::start_guess(VecField& tau, VecField& u) {
+  const Field& g = *inc.bound;
+  VecField tg = *inc.guess;
+  if (tg.size() != tau.size()) return;
+  project_all(g, tg);
+  if (inc.control == TangentialControl::force) {
+    const double tol = 1e-15 * gsum;
+    const Eigen::VectorXd want = inc.target / op.grid().cell_area();
+    sets.classify(g, tg);
+    if (shift_to_force(false, want, tg).mismatch > tol &&
+        shift_to_force(true, want, tg).mismatch > tol)
+      return;
+  }
+  VecField ug;
+  op.apply(tg, ug);
+  if (!(energy(tg, ug) < energy(tau, u))) return;
+  tau = std::move(tg), u = std::move(ug);
+  exact = true;
+}
+
+double Workspace::residual(const VecField& tau, const VecField& u, double& stick_slip2) {
+  return tangential_detail::residual(sets, inc, tau, u, scale, op.grid(), result.shift,
+                                     stick_slip2);
+}
+
+// Force control: of the two feasible starts of the right force — shifting the stick nodes
+// only (continued loading) or every contact node (a reversal, where the whole contact sticks
+// again first) — take the one of lower QP energy 1/2 (tau - tau0) . (u - u0).
+void Workspace::start_force(VecField& tau, VecField& u) {
+  const Field& g = *inc.bound;
+  const double area = op.grid().cell_area(), tol = 1e-15 * g.sum();
+  const Eigen::VectorXd want = inc.target / area;
+  if ((total_force(tau, op.grid()) / area - want).norm() <= tol) return;
+  VecField ta = tau, ua, tb = tau, ub;
+  sets.classify(g, tau);
+  const bool a_ok = shift_to_force(false, want, ta).mismatch <= tol;
+  shift_to_force(true, want, tb);
+  op.apply(tb, ub);
+  if (a_ok) {
+    op.apply(ta, ua);
+    if (energy(ta, ua) < energy(tb, ub)) {
+      tau = std::move(ta), u = std::move(ua), exact = true;
+      return;
+    }
+  }
+  tau = std::move(tb), u = std::move(ub), exact = true;
+}
+
+TangentialResult Workspace::finish(const VecField& tau, const std::string& algorithm) {
+  result.convolutions = int(op.half_space().convolutions() - conv0);
+  result.force = total_force(tau, op.grid());
+  if (!result.converged) {
+    std::ostringstream msg;
+    msg << algorithm << " tangential solver did not converge: residual " << result.residual
+        << " > tolerance " << opt.tolerance << " after " << result.iterations << " iterations";
+    throw SolverError(msg.str());
+  }
+  return result;
+}
+
+}  // namespace fretbem::tangential_detail
