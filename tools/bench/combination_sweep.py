@@ -1,0 +1,345 @@
+#!/usr/bin/python3
+"""Combination sweep: seeded random scenarios over every option a user can combine.
+
+Each case (combo_cases.py: surfaces and height-map files, materials and couplings, friction
+laws, ramp/sine/table paths with varying F_z, force/displacement control, wear laws and
+integrators, fields, periodic grids, solver options) runs `fretbem run` on a small grid and is
+judged:
+
+  refused  exit 2 with one line naming the problem: a combination the program does not take
+  pass     exit 0 and every invariant of combo_invariants.py holds on the outputs, and
+           - `--stop-after K` then `--resume`, or SIGTERM (right at the start or once the time
+             series has k rows) then `--resume`: the uninterrupted run's rows and field groups
+             (a dirk wear run within 10 wear.rtol); a run killed before it could install its
+             handler must leave nothing a resume takes (exit 2, one line)
+           - an ODE wear run (erk, dirk, arkode; N <= 200): final delta and max worn depth
+             within 10 wear.rtol of `wear.integrator = cycle`
+  fail     anything else: crash (signal), hang (timeout), exit 1 or 3, a message that is not
+           one line or shows library text, NaN/inf in an output, a broken invariant
+
+    tools/bench/combination_sweep.py --build build --cases 300 --seed 1 --out DIR
+    tools/bench/combination_sweep.py --build build --quick --out DIR   # the ctest subset
+    tools/bench/combination_sweep.py --build build --seed 1 --case 17 --out DIR  # one case
+
+Writes DIR/cases.csv (one row per case: outcome, problems, the known defect it matches, and
+the commands, which run as printed from DIR/cases/NNNN/) and prints a summary; exit 1 when any
+case failed. Cases run at most two at a time under `nice`.
+"""
+import argparse
+import concurrent.futures
+import csv
+import math
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+from combo_cases import draw_case
+from combo_invariants import final_wear_close, read_rows, run_invariants, same_field_groups, \
+    same_rows
+from fretbem_outputs import LIBRARY_TEXT, nonfinite_in_csv, nonfinite_in_h5
+
+TIMEOUT = 120  # s per fretbem command: the cases take 0.1-5 s, so this is a hang
+QUICK_SEED, QUICK_CASES = 5, 40
+ODE_REFERENCE_MAX_N = 200
+
+# Defects known and being fixed on other branches: a failure matching one is labelled so, to
+# tell it from a new one. Each entry: (label, test on (case, problem text)).
+KNOWN_DEFECTS = [
+    ("stop during step 0", lambda c, p: c.mode == "sigterm" and c.mode_arg == 0
+     and "sigterm" in p),
+    ("dissipation decreasing when nodes lose contact",
+     lambda c, p: p.startswith("dissipation") and c.varying_normal()),
+    ("ODE wear under varying F_z", lambda c, p: p.startswith("ode-vs-cycle") and c.varying_normal()),
+    ("wear runs with fields dying in HDF5",
+     lambda c, p: c.is_wear() and "output.fields" in c.keys and "HDF5" in p),
+]
+
+
+class Run:
+    def __init__(self, argv, code, out, err, seconds):
+        self.argv, self.code, self.out, self.err, self.seconds = argv, code, out, err, seconds
+
+    def command(self):
+        return " ".join(self.argv)
+
+
+def fretbem(binary, args, cwd):
+    argv = [binary] + args
+    t0 = time.time()
+    try:
+        p = subprocess.run(argv, cwd=cwd, capture_output=True, text=True, timeout=TIMEOUT)
+        return Run(argv, p.returncode, p.stdout, p.stderr, time.time() - t0)
+    except subprocess.TimeoutExpired:
+        return Run(argv, "timeout", "", "", time.time() - t0)
+
+
+def rows_written(path):
+    try:
+        with open(path, "rb") as f:
+            return max(f.read().count(b"\n") - 1, 0)
+    except OSError:
+        return 0
+
+
+def fretbem_terminated(binary, args, cwd, rows):
+    """Starts a run, sends SIGTERM once its time series has `rows` rows (0: at once)."""
+    argv = [binary] + args
+    t0 = time.time()
+    p = subprocess.Popen(argv, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    series = os.path.join(cwd, args[args.index("--out") + 1], "timeseries.csv")
+    while rows and p.poll() is None and rows_written(series) < rows:
+        if time.time() - t0 > TIMEOUT:
+            break
+        time.sleep(0.01)  # polling the condition, not waiting for time to pass
+    if p.poll() is None:
+        p.send_signal(signal.SIGTERM)
+    try:
+        out, err = p.communicate(timeout=TIMEOUT)
+        return Run(argv, p.returncode, out, err, time.time() - t0)
+    except subprocess.TimeoutExpired:
+        p.kill()
+        p.communicate()
+        return Run(argv, "timeout", "", "", time.time() - t0)
+
+
+def exit_problems(run, label, allowed=(0,)):
+    """What is wrong with a command's exit and stderr, beyond an allowed code."""
+    if run.code == "timeout":
+        return [f"hang ({label}): still running after {TIMEOUT} s"]
+    problems = []
+    if any(t in run.err for t in LIBRARY_TEXT):
+        problems.append(f"message ({label}): stderr shows library text: {first_line(run.err)}")
+    if run.code in allowed:
+        return problems
+    if run.code < 0 or run.code > 128:
+        problems.append(f"crash ({label}): exit {run.code}: {first_line(run.err)}")
+    elif run.code == 2 and not is_refusal(run):
+        problems.append(f"message ({label}): exit 2 without one error line: {run.err[:200]!r}")
+    elif run.code != 2:
+        problems.append(f"exit {run.code} ({label}): {first_line(run.err)}")
+    else:
+        problems.append(f"exit 2 ({label}): {first_line(run.err)}")
+    return problems
+
+
+def error_lines(err):
+    return [line for line in err.splitlines() if "error" in line]
+
+
+def is_refusal(run):
+    return run.code == 2 and len(error_lines(run.err)) == 1 and \
+        not any(t in run.err for t in LIBRARY_TEXT)
+
+
+def first_line(err):
+    lines = error_lines(err) or [line for line in err.splitlines() if line.strip()] or [""]
+    return lines[-1].strip()[:240]
+
+
+def nonfinite(case, out):
+    bad = []
+    for name in ("timeseries.csv", "cycles.csv"):
+        bad += nonfinite_in_csv(os.path.join(out, name))
+    bad += nonfinite_in_h5(os.path.join(out, "result.h5"))
+    if str(case.get("solver.stiffness")) in ("every", "true"):
+        header, rows = read_rows(os.path.join(out, "timeseries.csv"))
+        if "kx" in header and any(not math.isfinite(float(r[header.index("kx")])) for r in rows):
+            bad.append("timeseries.csv:kx (solver.stiffness = every)")
+    return [f"nan: {b}" for b in bad[:3]]
+
+
+def finished_problems(case, cwd, out):
+    """Invariants of a run that exited 0, in folder `out` below `cwd`."""
+    path = os.path.join(cwd, out)
+    return nonfinite(case, path) + run_invariants(case, path)
+
+
+def implicit_wear(case, plain):
+    """dirk, or arkode that chose it (its summary line names the steps)."""
+    integ = case.get("wear.integrator")
+    return integ == "dirk" or (integ == "arkode" and "implicit" in plain.out)
+
+
+def compare_resumed(case, cwd, plain, label, out):
+    ref, new = os.path.join(cwd, "plain"), os.path.join(cwd, out)
+    problems = finished_problems(case, cwd, out)
+    if case.is_wear() and implicit_wear(case, plain):
+        rtol = float(case.get("wear.rtol", 1e-3))
+        return problems + final_wear_close(f"resume ({label}, dirk)", os.path.join(
+            ref, "cycles.csv"), os.path.join(new, "cycles.csv"), rtol)
+    for name in ("timeseries.csv", "cycles.csv"):
+        problems += same_rows(label, name, os.path.join(ref, name), os.path.join(new, name))
+    return problems + same_field_groups(label, os.path.join(ref, "result.h5"),
+                                        os.path.join(new, "result.h5"))
+
+
+def resume_and_compare(binary, case, cwd, plain, label, out, runs):
+    resume = fretbem(binary, ["run", "--resume", out, "--quiet"], cwd)
+    runs.append(resume)
+    problems = exit_problems(resume, f"{label}: --resume")
+    if problems:
+        return problems
+    return compare_resumed(case, cwd, plain, label, out)
+
+
+def stop_and_resume(binary, case, cwd, plain, runs):
+    stop = fretbem(binary, ["run", "scenario.ini", "--out", "stop", "--quiet", "--stop-after",
+                            str(case.mode_arg)], cwd)
+    runs.append(stop)
+    problems = exit_problems(stop, "stop-after")
+    if problems:
+        return problems
+    return resume_and_compare(binary, case, cwd, plain, "stop-after", "stop", runs)
+
+
+def terminate_and_resume(binary, case, cwd, plain, runs):
+    term = fretbem_terminated(binary, ["run", "scenario.ini", "--out", "term", "--quiet"], cwd,
+                              case.mode_arg)
+    runs.append(term)
+    label = "sigterm after k rows" if case.mode_arg else "sigterm at start"
+    if term.code == 0:  # finished before the signal arrived
+        return compare_resumed(case, cwd, plain, label, "term")
+    if term.code == -signal.SIGTERM:
+        # Killed before the handler was installed: nothing may be resumable but a refusal.
+        resume = fretbem(binary, ["run", "--resume", "term", "--quiet"], cwd)
+        runs.append(resume)
+        if is_refusal(resume):
+            return []
+        if resume.code == 0:
+            return compare_resumed(case, cwd, plain, label, "term")
+        return exit_problems(resume, f"{label}, killed at start, then --resume")
+    problems = exit_problems(term, label, allowed=(143,))
+    if problems:
+        return problems
+    return resume_and_compare(binary, case, cwd, plain, label, "term", runs)
+
+
+def ode_against_cycle(binary, case, cwd, runs):
+    if case.get("wear.integrator") == "cycle" or float(case.get("wear.cycles")) > \
+            ODE_REFERENCE_MAX_N:
+        return []
+    ref = fretbem(binary, ["run", "scenario.ini", "--out", "cycle", "--quiet", "--set",
+                           "wear.integrator=cycle"], cwd)
+    runs.append(ref)
+    problems = exit_problems(ref, "ode-vs-cycle: the cycle reference")
+    if problems:
+        return problems
+    return final_wear_close("ode-vs-cycle", os.path.join(cwd, "cycle", "cycles.csv"),
+                            os.path.join(cwd, "plain", "cycles.csv"),
+                            float(case.get("wear.rtol", 1e-3)))
+
+
+def known_defect(case, problems):
+    """The known defects the problems match, and NEW for any problem that matches none."""
+    labels = sorted({label for p in problems for label, match in KNOWN_DEFECTS if match(case, p)})
+    unmatched = [p for p in problems if not any(m(case, p) for _, m in KNOWN_DEFECTS)]
+    return "; ".join(labels + (["NEW"] if unmatched else []))
+
+
+def write_case(case, cwd):
+    if os.path.isdir(cwd):
+        shutil.rmtree(cwd)
+    os.makedirs(cwd)
+    with open(os.path.join(cwd, "scenario.ini"), "w") as f:
+        f.write(case.ini())
+    for name, data in case.files.items():
+        with open(os.path.join(cwd, name), "wb") as f:
+            f.write(data)
+
+
+def judge_case(binary, case, cwd):
+    """Runs a case; returns (outcome, problems, runs)."""
+    write_case(case, cwd)
+    runs = [fretbem(binary, ["run", "scenario.ini", "--out", "plain", "--quiet"], cwd)]
+    plain = runs[0]
+    if is_refusal(plain):
+        return "refused", [first_line(plain.err)], runs
+    problems = exit_problems(plain, "run")
+    if not problems:
+        problems = finished_problems(case, cwd, "plain")
+        if case.is_wear():
+            problems += ode_against_cycle(binary, case, cwd, runs)
+        if case.mode == "stop":
+            problems += stop_and_resume(binary, case, cwd, plain, runs)
+        elif case.mode == "sigterm":
+            problems += terminate_and_resume(binary, case, cwd, plain, runs)
+    return ("fail" if problems else "pass"), problems, runs
+
+
+def sweep_case(binary, seed, index, root, keep):
+    case = draw_case(seed, index)
+    cwd = os.path.join(root, "cases", f"{index:04d}")
+    t0 = time.time()
+    outcome, problems, runs = judge_case(binary, case, cwd)
+    if outcome != "fail" and not keep:
+        for out in ("plain", "stop", "term", "cycle"):
+            shutil.rmtree(os.path.join(cwd, out), ignore_errors=True)
+    return {"case": index, "mode": case.mode, "mode_arg": case.mode_arg, "outcome": outcome,
+            "classes": ", ".join(sorted({p.split(":")[0] for p in problems})) if outcome ==
+            "fail" else "", "known_defect": known_defect(case, problems) if outcome == "fail"
+            else "", "problems": " | ".join(problems), "seconds": f"{time.time() - t0:.2f}",
+            "directory": cwd, "commands": " && ".join(r.command() for r in runs)}
+
+
+def summary(records):
+    counts = {o: sum(r["outcome"] == o for r in records) for o in ("pass", "refused", "fail")}
+    lines = [f"cases {len(records)}: passed {counts['pass']}, refused {counts['refused']}, "
+             f"failed {counts['fail']}"]
+    by_class = {}
+    for r in records:
+        if r["outcome"] == "fail":
+            for c in r["classes"].split(", "):
+                by_class.setdefault((c, r["known_defect"]), []).append(r["case"])
+    if by_class:
+        lines.append("| invariant | known defect | cases |")
+        lines.append("|---|---|---|")
+        for (c, known), cases in sorted(by_class.items()):
+            lines.append(f"| {c} | {known} | {len(cases)}: {' '.join(map(str, cases[:12]))} |")
+    return "\n".join(lines)
+
+
+def write_records(path, records):
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(records[0]))
+        w.writeheader()
+        w.writerows(sorted(records, key=lambda r: r["case"]))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--build", default="build", help="folder holding the fretbem binary")
+    ap.add_argument("--cases", type=int, default=300)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--quick", action="store_true",
+                    help=f"the ctest subset: seed {QUICK_SEED}, {QUICK_CASES} cases")
+    ap.add_argument("--case", type=int, help="run only this case index")
+    ap.add_argument("--jobs", type=int, default=2, choices=(1, 2))
+    ap.add_argument("--keep", action="store_true", help="keep the outputs of passing cases")
+    a = ap.parse_args()
+    binary = os.path.abspath(os.path.join(a.build, "fretbem"))
+    seed, count = (QUICK_SEED, QUICK_CASES) if a.quick else (a.seed, a.cases)
+    indices = [a.case] if a.case is not None else list(range(count))
+    root = os.path.abspath(a.out)
+    os.makedirs(root, exist_ok=True)
+    os.nice(10)  # the children inherit it: the machine is shared
+    records = []
+    with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
+        futures = [pool.submit(sweep_case, binary, seed, i, root, a.keep) for i in indices]
+        for f in concurrent.futures.as_completed(futures):
+            r = f.result()
+            records.append(r)
+            if r["outcome"] == "fail":
+                print(f"case {r['case']} FAIL [{r['known_defect']}]: {r['problems'][:300]}\n"
+                      f"  cd {r['directory']} && {r['commands']}", flush=True)
+    write_records(os.path.join(root, "cases.csv"), records)
+    print(f"seed {seed}, binary {binary}")
+    print(summary(records))
+    return 1 if any(r["outcome"] == "fail" for r in records) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
