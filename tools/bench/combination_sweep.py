@@ -301,11 +301,25 @@ def summary(records):
     return "\n".join(lines)
 
 
-def write_records(path, records):
-    with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(records[0]))
-        w.writeheader()
-        w.writerows(sorted(records, key=lambda r: r["case"]))
+class Records:
+    """cases.csv, one row appended per finished case, so that an interrupted sweep keeps them."""
+
+    def __init__(self, path):
+        self.path, self.rows, self.file, self.writer = path, [], None, None
+
+    def add(self, record):
+        if self.writer is None:
+            self.file = open(self.path, "w", newline="")
+            self.writer = csv.DictWriter(self.file, fieldnames=list(record))
+            self.writer.writeheader()
+        self.writer.writerow(record)
+        self.file.flush()
+        self.rows.append(record)
+
+
+def report_failure(r):
+    print(f"case {r['case']} FAIL [{r['known_defect']}]: {r['problems'][:300]}\n"
+          f"  cd {r['directory']} && {r['commands']}", flush=True)
 
 
 def main():
@@ -326,19 +340,21 @@ def main():
     root = os.path.abspath(a.out)
     os.makedirs(root, exist_ok=True)
     os.nice(10)  # the children inherit it: the machine is shared
-    records = []
-    with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        futures = [pool.submit(sweep_case, binary, seed, i, root, a.keep) for i in indices]
+    records = Records(os.path.join(root, "cases.csv"))
+    pool = concurrent.futures.ThreadPoolExecutor(a.jobs)
+    futures = [pool.submit(sweep_case, binary, seed, i, root, a.keep) for i in indices]
+    try:
         for f in concurrent.futures.as_completed(futures):
-            r = f.result()
-            records.append(r)
-            if r["outcome"] == "fail":
-                print(f"case {r['case']} FAIL [{r['known_defect']}]: {r['problems'][:300]}\n"
-                      f"  cd {r['directory']} && {r['commands']}", flush=True)
-    write_records(os.path.join(root, "cases.csv"), records)
+            records.add(f.result())
+            if records.rows[-1]["outcome"] == "fail":
+                report_failure(records.rows[-1])
+    except KeyboardInterrupt:  # SIGINT: summarise the finished cases
+        pool.shutdown(wait=False, cancel_futures=True)
+        print(f"interrupted after {len(records.rows)} of {len(indices)} cases")
+    pool.shutdown(wait=False)
     print(f"seed {seed}, binary {binary}")
-    print(summary(records))
-    return 1 if any(r["outcome"] == "fail" for r in records) else 0
+    print(summary(records.rows))
+    return 1 if any(r["outcome"] == "fail" for r in records.rows) else 0
 
 
 if __name__ == "__main__":
