@@ -3,7 +3,7 @@
 draw_case(seed, index) returns a Case: every scenario key a user can combine (README, "Scenario
 files"), drawn at random but sized so that a run takes 0.1-2 s (n = 16-48, few steps), plus the
 input files it needs (height maps in .npy/.txt/.h5/.npz, load tables) and the interruption to
-try (none, `--stop-after K`, SIGTERM at start or after k rows). The same (seed, index) always
+try (none, `--stop-after K`, SIGTERM at once, in step 0 or after k rows). The same (seed, index) always
 gives the same case, so any case can be rerun alone. Lengths in m, forces in N, moduli in Pa.
 """
 import io
@@ -330,7 +330,9 @@ def draw_mode(r, wear):
     if mode == "stop":
         return mode, r.randint(1, 3 if wear else 6)
     if mode == "sigterm":
-        return mode, r.choice([0, 0, 1, 2, 4, 8])  # rows to wait for; 0: right at the start
+        # Rows of the time series to wait for; 0: until the output folder exists (step 0 in
+        # progress); -1: not at all (the signal may arrive before the handler is installed).
+        return mode, r.choice([-1, 0, 0, 1, 2, 4, 8])
     return mode, None
 
 
