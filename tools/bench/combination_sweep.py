@@ -11,10 +11,10 @@ judged:
            - `--stop-after K` then `--resume`, or SIGTERM (at once, once the output folder
              exists, i.e. in step 0, or once the time series has k rows) then `--resume`:
              the uninterrupted run's rows and field groups
-             (a dirk wear run within 10 wear.rtol); a run killed before it could install its
+             (a dirk wear run within its tolerance); a run killed before it could install its
              handler must leave nothing a resume takes (exit 2, one line)
            - an ODE wear run (erk, dirk, arkode; N <= 200): final delta and max worn depth
-             within 10 wear.rtol of `wear.integrator = cycle`
+             within 10 (rtol W + atol) of `wear.integrator = cycle` (combo_invariants.py)
   fail     anything else: crash (signal), hang (timeout), exit 1 or 3, a message that is not
            one line or shows library text, NaN/inf in an output, a broken invariant
 
@@ -173,9 +173,8 @@ def compare_resumed(case, cwd, plain, label, out):
     ref, new = os.path.join(cwd, "plain"), os.path.join(cwd, out)
     problems = finished_problems(case, cwd, out)
     if case.is_wear() and implicit_wear(case, plain):
-        rtol = float(case.get("wear.rtol", 1e-3))
-        return problems + final_wear_close(f"resume ({label}, dirk)", os.path.join(
-            ref, "cycles.csv"), os.path.join(new, "cycles.csv"), rtol)
+        return problems + final_wear_close(f"resume ({label}, dirk)", case, os.path.join(
+            ref, "cycles.csv"), os.path.join(new, "cycles.csv"))
     for name in ("timeseries.csv", "cycles.csv"):
         problems += same_rows(label, name, os.path.join(ref, name), os.path.join(new, name))
     return problems + same_field_groups(label, os.path.join(ref, "result.h5"),
@@ -234,9 +233,8 @@ def ode_against_cycle(binary, case, cwd, runs):
     problems = exit_problems(ref, "ode-vs-cycle: the cycle reference")
     if problems:
         return problems
-    return final_wear_close("ode-vs-cycle", os.path.join(cwd, "cycle", "cycles.csv"),
-                            os.path.join(cwd, "plain", "cycles.csv"),
-                            float(case.get("wear.rtol", 1e-3)))
+    return final_wear_close("ode-vs-cycle", case, os.path.join(cwd, "cycle", "cycles.csv"),
+                            os.path.join(cwd, "plain", "cycles.csv"))
 
 
 def known_defect(case, problems):

@@ -173,7 +173,7 @@ def draw_surface(r, k, files, nx, ny):
             k["surface.rms_height"] = slope * LENGTH / 20
         if k["surface.method"] == "fourier" and r.random() < 0.5:
             k["surface.rolloff_wavelength"] = LENGTH / 4
-            k["surface.cutoff_wavelength"] = 4 * h
+            k["surface.cutoff_wavelength"] = 3 * h
     elif kind == "file":
         layout = r.choice(["yx", "xy"])
         name, data, extra = height_file(r, rough_heights(r, nx, ny, h, slope), layout)
@@ -274,8 +274,8 @@ def draw_load(r, k, files, s, mu_low, path, wear):
     control = r.choices(["force", "displacement"], [0.6, 0.4])[0]
     if k.get("grid.periodic") == "true" and r.random() < 0.9:
         control = "force"  # documented restriction; drawn now and then to see it refused
-    if path != "table" or r.random() < 0.5:
-        k["load.control"] = control
+    if path != "table" or r.random() < 0.9:
+        k["load.control"] = control  # a table's Ux/Uy columns need displacement: else refused
     normal = "none"
     if path == "table":
         normal, notes = draw_table(r, k, files, s, control, mu_low, wear)
@@ -304,8 +304,9 @@ def draw_wear(r, k, s, integ):
     k["wear.integrator"] = integ
     N = r.choice([3, 10, 40, 200] if integ == "cycle" else [3, 10, 40, 200, 1000, 20000])
     k["wear.cycles"] = N
-    # Total worn depth after N cycles about f x the indentation: k_eq p0 (4 U*) N = f delta.
-    f = r.choice([0.01, 0.1, 0.5])
+    # k_eq p0 (4 U*) N = f delta: in gross slip the worn depth is about f x the indentation;
+    # in partial slip (slip far below 4 U*) two to three decades less.
+    f = r.choice([0.03, 0.3, 3.0, 30.0])
     k_eq = f * s.delta / (N * s.p0 * 4 * s.u_star)
     k["wear.coefficient"] = k_eq / (k["material.mu"] if k["wear.law"] == "energy" else 1.0)
     k["wear.rtol"] = r.choice([1e-3, 1e-2])
