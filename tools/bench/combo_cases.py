@@ -3,8 +3,9 @@
 draw_case(seed, index) returns a Case: every scenario key a user can combine (README, "Scenario
 files"), drawn at random but sized so that a run takes 0.1-2 s (n = 16-48, few steps), plus the
 input files it needs (height maps in .npy/.txt/.h5/.npz, load tables) and the interruption to
-try (none, `--stop-after K`, SIGTERM at once, in step 0 or after k rows). The same (seed, index) always
-gives the same case, so any case can be rerun alone. Lengths in m, forces in N, moduli in Pa.
+try (none, `--stop-after K`, SIGTERM at once, in step 0 or after k rows). The same
+(seed, index) always gives the same case, so any case can be rerun alone. Lengths in m, forces
+in N, moduli in Pa.
 """
 import io
 import math
@@ -14,6 +15,26 @@ import numpy as np
 
 RADIUS = 0.01    # sphere radius (m), as the shipped scenarios
 LENGTH = 2.8e-4  # domain side (m), as the shipped scenarios
+
+
+class Limits:
+    """How large a drawn case may be: grid sizes (wear runs and costly cases take the smaller
+    list), wear cycle counts (`cycle` mode simulates every one), the largest grid for the
+    `coupled` alternation (about ten times the CPU of `cerruti`, README), the most FFT threads
+    (two threads at n <= 32 took 40-60 times the CPU of one on the loaded machine,
+    docs/reliability.md, "Combination sweep")."""
+
+    def __init__(self, grids, small_grids, wear_cycles, cycle_mode_cycles, coupled_max_n,
+                 max_threads):
+        self.grids, self.small_grids = grids, small_grids
+        self.wear_cycles, self.cycle_mode_cycles = wear_cycles, cycle_mode_cycles
+        self.coupled_max_n, self.max_threads = coupled_max_n, max_threads
+
+
+FULL = Limits([16, 24, 32, 48], [16, 24, 32], [3, 10, 40, 200, 1000, 20000], [3, 10, 40, 200],
+              48, 2)
+# The ctest subset: under two minutes on the shared two-core machine at load ~16.
+QUICK = Limits([16, 24], [16], [3, 10, 40], [3, 10, 40], 16, 1)
 
 
 class Case:
@@ -46,6 +67,11 @@ class Case:
 
     def varying_normal(self):
         return "varying_normal" in self.notes
+
+    def bound_moves(self):
+        """Whether the Coulomb bound mu p moves within steps, so that nodes can lose contact:
+        a varying normal load, a surface worn between cycles, or the coupled alternation."""
+        return self.varying_normal() or self.is_wear() or self.get("solver.coupling") == "coupled"
 
 
 def e_star(keys):
@@ -86,8 +112,8 @@ def draw_material(r, k):
         k["material.nu2"] = r.choice([0.3, 0.33])
 
 
-def draw_grid(r, k, wear, costly):
-    n = r.choice([16, 24, 32] if wear or costly else [16, 24, 32, 48])
+def draw_grid(r, k, wear, costly, limits):
+    n = r.choice(limits.small_grids if wear or costly else limits.grids)
     if r.random() < 0.1:
         k["grid.nx"], k["grid.ny"] = n, r.choice([n // 2, n])
     else:
@@ -206,8 +232,8 @@ def draw_friction(r, k, wear_integrator):
     return min(mu, k["friction.mu_final"])
 
 
-def draw_solver(r, k, n):
-    k["solver.threads"] = r.choices([1, 2], [0.9, 0.1])[0]
+def draw_solver(r, k, n, limits):
+    k["solver.threads"] = min(r.choices([1, 2], [0.9, 0.1])[0], limits.max_threads)
     if r.random() < 0.1:
         k["solver.fft_precision"] = "float"
         k["solver.tolerance"] = r.choice([1e-6, 1e-5])
@@ -215,6 +241,8 @@ def draw_solver(r, k, n):
         k["solver.tolerance"] = r.choice([1e-8, 1e-6, 1e-10])
     k["solver.stiffness"] = r.choice(["every", "turning", "none", "true", "false"])
     k["solver.coupling"] = r.choices(["analogy", "cerruti", "coupled"], [0.5, 0.3, 0.2])[0]
+    if k["solver.coupling"] == "coupled" and n > limits.coupled_max_n:
+        k["solver.coupling"] = "cerruti"
     k["solver.algorithm"] = r.choices(["projected", "partition"], [0.85, 0.15])[0]
     k["solver.precondition"] = r.choice(["automatic", "on", "off"])
     k["solver.predictor"] = r.choice(["auto", "none", "cycle"])
@@ -299,10 +327,10 @@ def draw_load(r, k, files, s, mu_low, path, wear):
     return notes
 
 
-def draw_wear(r, k, s, integ):
+def draw_wear(r, k, s, integ, limits):
     k["wear.law"] = r.choice(["archard", "energy"])
     k["wear.integrator"] = integ
-    N = r.choice([3, 10, 40, 200] if integ == "cycle" else [3, 10, 40, 200, 1000, 20000])
+    N = r.choice(limits.cycle_mode_cycles if integ == "cycle" else limits.wear_cycles)
     k["wear.cycles"] = N
     # k_eq p0 (4 U*) N = f delta: in gross slip the worn depth is about f x the indentation;
     # in partial slip (slip far below 4 U*) two to three decades less.
@@ -337,14 +365,14 @@ def draw_mode(r, wear):
     return mode, None
 
 
-def draw_case(seed, index):
+def draw_case(seed, index, limits=FULL):
     r = random.Random(f"combination-sweep:{seed}:{index}")
     k = {}
     draw_material(r, k)
     path = r.choices(["none", "ramp", "sine", "table"], [0.08, 0.22, 0.4, 0.3])[0]
     wear = path in ("sine", "table") and r.random() < 0.4
     costly = r.random() < 0.2
-    n = draw_grid(r, k, wear, costly)
+    n = draw_grid(r, k, wear, costly, limits)
     nx, ny = k.get("grid.nx", n), k.get("grid.ny", n)
     files = {}
     scales = draw_surface(r, k, files, nx, ny)
@@ -361,9 +389,9 @@ def draw_case(seed, index):
     notes = draw_load(r, k, files, scales, mu_low, path, wear)
     if "two_d" in notes and wear and r.random() < 0.8:
         integ = "cycle"  # 2-D motion with an ODE integrator is a documented refusal
-    draw_solver(r, k, n)
+    draw_solver(r, k, n, limits)
     if wear:
-        draw_wear(r, k, scales, integ)
+        draw_wear(r, k, scales, integ, limits)
     draw_output(r, k, wear)
     mode, arg = draw_mode(r, wear)
     return Case(index, k, files, mode, arg, notes)

@@ -195,7 +195,8 @@ def same_field_groups(label, reference, resumed):
     a, b = field_groups(reference), field_groups(resumed)
     if set(a) != set(b):
         missing, extra = sorted(set(a) - set(b))[:2], sorted(set(b) - set(a))[:2]
-        return [f"resume ({label}): result.h5 field groups differ (missing {missing}, extra {extra})"]
+        return [f"resume ({label}): result.h5 field groups differ "
+                f"(missing {missing}, extra {extra})"]
     for name in a:
         if not np.array_equal(a[name], b[name]):
             return [f"resume ({label}): result.h5 {name} differs"]
