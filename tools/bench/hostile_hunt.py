@@ -19,8 +19,6 @@ that found defects are kept as regression tests (tests/bad_inputs/, test_sweep.c
 this script is the record of what was tried (docs/reliability.md, "Hostile-user hunt").
 """
 import argparse
-import glob
-import math
 import os
 import shutil
 import signal
@@ -30,11 +28,11 @@ import sys
 import tempfile
 import time
 
+from fretbem_outputs import LIBRARY_TEXT, scan_outputs
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 SC = os.path.join(ROOT, "scenarios")
-LIBRARY_TEXT = ("std::", "basic_", "bad_alloc", "filesystem error", "terminate", "Assertion",
-                "Traceback", "what():", "HDF5-DIAG", "Segmentation")
 SMALL = ["--set", "grid.n=16"]
 MINDLIN = os.path.join(SC, "mindlin_cycle.ini")
 ROUGH = os.path.join(SC, "rough_monotone.ini")
@@ -50,65 +48,6 @@ class Case:
         self.area, self.name, self.argv, self.expect = area, name, argv, expect
         self.timeout, self.setup, self.env = timeout, setup, env
         self.signal_after, self.allow_warn, self.out, self.cwd = signal_after, allow_warn, out, cwd
-
-
-def nonfinite_in_csv(path):
-    """Cells that are nan/inf, except kx (README: nan where solver.stiffness skips it)."""
-    bad = []
-    try:
-        with open(path, encoding="utf-8", errors="replace") as f:
-            header = f.readline().strip().split(",")
-            for ln, line in enumerate(f, start=2):
-                row = dict(zip(header, line.strip().split(",")))
-                if row.get("members") == "0":  # documented: no member covers the bin
-                    continue
-                for col, cell in row.items():
-                    c = cell.strip().lower()
-                    if c in ("nan", "-nan", "inf", "-inf", "+inf", "infinity"):
-                        if col in ("kx", "final_kx", "kx_at_max", "kx_at_min"):
-                            continue
-                        if col.endswith("_ci95"):  # documented: < 2 members cover the bin
-                            continue
-                        bad.append(f"{os.path.basename(path)}:{ln}:{col}={cell}")
-    except OSError:
-        pass
-    return bad
-
-
-def nonfinite_in_h5(path):
-    try:
-        import h5py
-        import numpy as np
-    except ImportError:
-        return []
-    bad = []
-    try:
-        with h5py.File(path, "r") as f:
-            def visit(name, obj):
-                if isinstance(obj, h5py.Dataset) and obj.dtype.kind == "f":
-                    a = obj[()]
-                    if name.endswith("timeseries"):  # kx column documented nan
-                        cols = list(f["timeseries"].attrs.get("columns", []))
-                        cols = [c.decode() if isinstance(c, bytes) else c for c in cols]
-                        if "kx" in cols:
-                            a = np.delete(np.atleast_2d(a), cols.index("kx"), axis=1)
-                    if not np.all(np.isfinite(a)):
-                        bad.append(f"{os.path.basename(path)}:/{name}")
-            f.visititems(visit)
-    except Exception:  # a torn or foreign file is not this check's business
-        pass
-    return bad
-
-
-def scan_outputs(root):
-    bad = []
-    for p in glob.glob(os.path.join(root, "**", "*.csv"), recursive=True):
-        if os.path.dirname(p) != root:  # the case's own input files sit at the top
-            bad += nonfinite_in_csv(p)
-    for p in glob.glob(os.path.join(root, "**", "*.h5"), recursive=True):
-        if not p.endswith("checkpoint.h5"):
-            bad += nonfinite_in_h5(p)
-    return bad
 
 
 def judge(case, code, err, elapsed, work):
