@@ -64,9 +64,7 @@ void check_wear_path(const Scenario& sc, const LoadPath& path) {
         "cycle from a traction-free state, is not the periodic state of a 2-D path)");
 }
 
-}  // namespace
-
-Field make_surface(const Scenario& sc) {
+Field generated_or_loaded_surface(const Scenario& sc) {
   const Grid& g = sc.grid;
   switch (sc.surface.type) {
     case SurfaceType::sphere:
@@ -79,6 +77,15 @@ Field make_surface(const Scenario& sc) {
       return file_surface(sc.surface, g);
   }
   throw InputError("surface.type: unknown");
+}
+
+}  // namespace
+
+// Every surface, whoever asks (run, check, `fretbem surface`), within the bound of the inputs.
+Field make_surface(const Scenario& sc) {
+  Field z = generated_or_loaded_surface(sc);
+  check_heights(sc, z);
+  return z;
 }
 
 // Peak RSS measured on the Cattaneo scenario (analogy, one tangential component, fields

@@ -1,0 +1,20 @@
+// Cautions about inputs that are accepted but doubtful (a key the scenario's choices leave
+// unread, a height map with no spacing to check, a shift near the small-slip bound). The
+// library says them here; the program decides where they go (`fretbem` prints each distinct
+// one once on stderr, for `check` and `run` alike). Without a handler they are dropped.
+#pragma once
+
+#include <functional>
+#include <string>
+
+namespace fretbem {
+
+using InputWarningHandler = std::function<void(const std::string& text)>;
+
+/// Installs the handler (an empty one drops warnings); returns the previous one.
+InputWarningHandler set_input_warning_handler(InputWarningHandler handler);
+
+/// Hands one caution (a sentence naming the key, file or value) to the handler.
+void input_warning(const std::string& text);
+
+}  // namespace fretbem
