@@ -355,7 +355,7 @@ int cmd_surface(const Args& a) {
                                                           with_default_scale(a.sets))
                                          : read_scenario(a);
   const Field z = make_surface(sc);
-  save_height_map(a.out, z);
+  save_height_map(a.out, z, sc.grid.h);
   const SurfaceStats st = surface_statistics(sc.grid, z);
   std::printf("surface %s: %d x %d, h = %g m\n", a.out.c_str(), sc.grid.nx, sc.grid.ny, sc.grid.h);
   std::printf("  rms height %.6g m\n  rms slope  %.6g\n  min %.6g m  max %.6g m\n", st.rms_height,

@@ -106,18 +106,18 @@ void check_shift(const Scenario& sc, const ContactScales& s) {
 std::string contact_radius_text(const Scenario& sc, const ContactScales& s) {
   return (sc.surface.type == SurfaceType::sphere ? "the Hertz contact radius a = "
                                                  : "half the domain side, a = ") +
-         format_number(s.contact_radius) + " m";
+         format_printf("%.4g", s.contact_radius) + " m";
 }
 
 void check_small_slip(const Scenario& sc, const ContactScales& s) {
   if (!(s.contact_radius > 0.0)) return;
   const double radii = s.max_tangential_shift / s.contact_radius;
   if (radii <= kWarnShiftOverContactRadius) return;
-  const std::string what =
-      shift_source(sc) + ": a shift of " + format_number(s.max_tangential_shift) + " m is " +
-      format_number(std::round(radii * 100) / 100) + " times " + contact_radius_text(sc, s) +
-      "; the model keeps the contact geometry "
-      "fixed (small slip)";
+  const std::string what = shift_source(sc) + ": a shift of " +
+                           format_number(s.max_tangential_shift) + " m is " +
+                           format_printf("%.3g", radii) + " times " + contact_radius_text(sc, s) +
+                           "; the model keeps the contact geometry "
+                           "fixed (small slip)";
   if (radii <= kMaxShiftOverContactRadius || sc.load.allow_large_shift) {
     input_warning(what + ", which such a shift strains (results lose accuracy)");
     return;
@@ -184,8 +184,8 @@ void check_before_solve(const Scenario& sc, const LoadPath& path, const Field& s
   check_table_friction(sc, path);
   const ContactScales s = contact_scales(sc, path, surface);
   check_strain(sc, s);
-  check_small_slip(sc, s);
   check_shift(sc, s);
+  check_small_slip(sc, s);
 }
 
 }  // namespace fretbem

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <functional>
 
-
 namespace fretbem {
 
 namespace {
@@ -134,12 +133,11 @@ const std::vector<Rule>& rules() {
          return ext == ".x3p" ? "an x3p file carries its own axis order" : "";
        }},
       {"surface.spacing", unless_surface(SurfaceType::file)},
+      // A table's Ux/Uy columns need load.control = displacement, its Fx/Fy force.
       {"load.control",
        [](const Scenario& sc) -> std::string {
-         if (scripted(sc)) return "";
-         return sc.load.path == PathType::table
-                    ? "a table's columns choose the control (here load.path = table)"
-                    : "read only by a ramp or sine (here load.path = none)";
+         if (sc.load.path != PathType::none) return "";
+         return "read only by a ramp, sine or table (here load.path = none)";
        }},
       {"load.amplitude", unless_control(Control::force)},
       {"load.displacement_amplitude", unless_control(Control::displacement)},
