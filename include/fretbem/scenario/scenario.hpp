@@ -41,7 +41,7 @@ struct SurfaceSpec {
   double radius = 0.0;         ///< sphere radius (m)
   RoughSpec rough;             ///< rough surfaces
   std::filesystem::path file;  ///< file surfaces (resolved against the scenario's folder)
-  std::string dataset;         ///< HDF5 dataset name for file surfaces ("" = first 2-D dataset)
+  std::string dataset;         ///< HDF5 dataset or .npz entry of file surfaces ("" = the only one)
   /// Axis order of .npy/.npz/.h5/text height maps (x3p files carry their own).
   HeightLayout layout = HeightLayout::yx;
   /// surface.spacing: the height map's grid spacing (m), checked against grid.length / n and

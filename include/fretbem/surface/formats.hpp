@@ -9,9 +9,9 @@
 #include "fretbem/elastic/grid.hpp"
 
 namespace fretbem {
-/// Loads a height map (m): HDF5 (.h5/.hdf5, 2-D dataset `dataset`, default the first 2-D
-/// dataset found in name order), NumPy (.npy v1/v2/v3, 2-D '<f8' or '<f4', C or Fortran
-/// order) or whitespace-separated text (anything else; one row per line, blank lines and
+/// Loads a height map (m): HDF5 (.h5/.hdf5, 2-D dataset `dataset`, default the only 2-D
+/// dataset; several are refused, naming them), NumPy (.npy v1/v2/v3, 2-D '<f8' or '<f4', C or
+/// Fortran order) or whitespace-separated text (anything else; one row per line, blank lines and
 /// '#' comments skipped). Rows run along y, columns along x: z(i, j) = array[j][i].
 /// Throws InputError naming the file on any problem (missing, unreadable, not 2-D, ragged
 /// rows, non-numeric token (with its line), NaN/Inf values).
