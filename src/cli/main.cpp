@@ -156,20 +156,23 @@ Args parse_args(int argc, char** argv) {
   return a;
 }
 
-// `run` and `check` warn alike about every given key the scenario's choices leave unread.
-Scenario read_scenario(const Args& a) {
-  if (a.scenario.empty()) throw InputError(a.command + ": no scenario file given");
-  Scenario sc = load_scenario(a.scenario, a.sets);
-  if (a.command == "run" || a.command == "check")
-    for (const auto& w : ignored_key_warnings(sc)) input_warning(w);
-  return sc;
-}
-
 // Each distinct caution once: check's calibration prepares the model again.
 void print_input_warnings_once() {
   set_input_warning_handler([seen = std::set<std::string>()](const std::string& w) mutable {
     if (seen.insert(w).second) std::fprintf(stderr, "fretbem: warning: %s\n", w.c_str());
   });
+}
+
+// A scenario file read by `run`, `check` or `surface`: its input cautions are printed (a resumed
+// run's were printed when it started), and `run` and `check` warn alike about every given key
+// the scenario's choices leave unread.
+Scenario read_scenario(const Args& a) {
+  if (a.scenario.empty()) throw InputError(a.command + ": no scenario file given");
+  print_input_warnings_once();
+  Scenario sc = load_scenario(a.scenario, a.sets);
+  if (a.command == "run" || a.command == "check")
+    for (const auto& w : ignored_key_warnings(sc)) input_warning(w);
+  return sc;
 }
 
 // Reads DIR/timeseries.csv back (resume): the rows a cycle summary has to replay.
@@ -416,7 +419,6 @@ std::string describe(const std::filesystem::filesystem_error& e) {
 int main(int argc, char** argv) {
   fretbem::hdf5::no_library_close_at_exit();  // a full disk must end in a message, not SIGSEGV
   fretbem::keep_freed_memory();
-  print_input_warnings_once();
   try {
     const Args a = parse_args(argc, argv);
     if (a.command == "help") return std::fputs(kUsage, stdout), 0;
