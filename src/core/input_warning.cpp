@@ -1,30 +1,45 @@
-// The process-wide input-warning handler (see input_warning.hpp).
+// The process-wide input-warning handler and the cautions it has not been handed yet.
 #include "fretbem/core/input_warning.hpp"
 
 #include <mutex>
 #include <utility>
+#include <vector>
 
 namespace fretbem {
 
 namespace {
 
-std::mutex handler_mutex;
+struct Pending {
+  std::mutex mutex;
+  InputWarningHandler handler;
+  std::vector<std::string> held;
+};
 
-InputWarningHandler& handler() {
-  static InputWarningHandler h;
-  return h;
+Pending& pending() {
+  static Pending p;
+  return p;
 }
 
 }  // namespace
 
 InputWarningHandler set_input_warning_handler(InputWarningHandler h) {
-  const std::lock_guard lock(handler_mutex);
-  return std::exchange(handler(), std::move(h));
+  Pending& p = pending();
+  const std::lock_guard lock(p.mutex);
+  p.held.clear();
+  return std::exchange(p.handler, std::move(h));
 }
 
 void input_warning(const std::string& text) {
-  const std::lock_guard lock(handler_mutex);
-  if (handler()) handler()(text);
+  Pending& p = pending();
+  const std::lock_guard lock(p.mutex);
+  if (p.handler) p.held.push_back(text);
+}
+
+void release_input_warnings() {
+  Pending& p = pending();
+  const std::lock_guard lock(p.mutex);
+  for (const auto& w : p.held) p.handler(w);
+  p.held.clear();
 }
 
 }  // namespace fretbem

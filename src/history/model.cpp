@@ -27,8 +27,8 @@ bool same_spacing(double a, double b) {
 
 // The map's spacing from the file (x3p, .npz, HDF5) or surface.spacing must be grid.length / n;
 // a given surface.spacing must also agree with the file's. A map with neither (.npy, text, or
-// files without the metadata) is taken at grid.length / n, as before surface.spacing existed,
-// with a warning that nothing checked it.
+// files without the metadata) is taken at grid.length / n, so that scenarios written without
+// surface.spacing keep running, with a warning that nothing checked it.
 void check_spacing(const SurfaceSpec& s, const Grid& g, const HeightMap& m,
                    const std::string& where) {
   for (const auto& [name, d] : {std::pair{"x", m.dx}, std::pair{"y", m.dy}}) {

@@ -179,6 +179,7 @@ void check_heights(const Scenario& sc, const Field& surface) {
 }
 
 void check_before_solve(const Scenario& sc, const LoadPath& path, const Field& surface) {
+  check_heights(sc, surface);  // a surface handed in (Python's Model) met no make_surface
   check_periodic_indentation(sc, path);
   check_wear_path(sc);
   check_table_friction(sc, path);

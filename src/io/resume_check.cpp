@@ -62,19 +62,20 @@ std::string new_run_id() {
   return buf;
 }
 
-void check_output_dir(const fs::path& dir, bool overwrite) {
+bool check_output_dir(const fs::path& dir, bool overwrite) {
   std::error_code ec;
   std::string found;
   for (const char* f : kRunFiles)
     if (fs::exists(dir / f, ec)) found += (found.empty() ? "" : ", ") + std::string(f);
-  if (!found.empty() && !overwrite)
+  if (found.empty()) return false;
+  if (!overwrite)
     throw InputError(dir.string() + ": holds the results of another run (" + found +
                      "); pass --overwrite to replace them, or choose another --out");
+  return true;
 }
 
 void prepare_output_dir(const fs::path& dir, bool overwrite) {
-  check_output_dir(dir, overwrite);
-  if (!overwrite) return;
+  if (!check_output_dir(dir, overwrite)) return;
   std::error_code ec;
   for (const char* f : {"checkpoint.h5", "checkpoint.h5.tmp"}) {
     fs::remove(dir / f, ec);

@@ -16,8 +16,9 @@ namespace fretbem {
 std::string new_run_id();
 
 /// Refuses (InputError naming `dir` and the files) when `dir` holds another run's results and
-/// `overwrite` is not given; changes nothing (`fretbem check` asks it as `run` will).
-void check_output_dir(const std::filesystem::path& dir, bool overwrite);
+/// `overwrite` is not given; changes nothing (`fretbem check` asks it as `run` will). Returns
+/// whether `dir` holds such results (to be replaced, `overwrite` given).
+bool check_output_dir(const std::filesystem::path& dir, bool overwrite);
 
 /// Before a fresh run into `dir`: refuses when `dir` holds another run's results
 /// (timeseries.csv, cycles.csv, result.h5 or checkpoint.h5) unless `overwrite`; with it,
