@@ -195,14 +195,12 @@ TEST(SlipRing, RoughRampWarnsInRoughSurfaceWords) {
   fs::remove_all(out);
 }
 
-// A sphere whose Hertz contact (a = 1/4) does not fit a domain of side 0.4: check predicts it,
-// a run refuses it (exit 2, one line naming the key), grid.allow_edge_contact = true runs with
-// a warning giving the share; the same contact on a domain of side 1 is silent.
+// A sphere whose Hertz contact (a = 1/4) does not fit a domain of side 0.4: a run refuses it
+// (exit 2, one line naming the key) and check with it, the same line; with
+// grid.allow_edge_contact = true check predicts it and the run goes on with a warning giving
+// the share; the same contact on a domain of side 1 is silent.
 TEST(EdgeLoad, ContactLargerThanTheGridIsRefusedUnlessAllowed) {
   const fs::path ini = write_ini("edge", sphere_ini(32, "", 0.4));
-  const Result c = cli("check " + ini.string());
-  EXPECT_EQ(c.status, 0);
-  EXPECT_NE(c.out.find("reaches the outermost cells"), std::string::npos) << c.out;
   const fs::path out = work_dir() / "edge_run";
   fs::remove_all(out);
   const Result r = cli("run " + ini.string() + " --quiet --out " + out.string());
@@ -210,6 +208,13 @@ TEST(EdgeLoad, ContactLargerThanTheGridIsRefusedUnlessAllowed) {
   EXPECT_NE(r.err.find("grid.allow_edge_contact"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
   fs::remove_all(out);
+  const Result c = cli("check " + ini.string() + " --out " + out.string());
+  EXPECT_EQ(c.status, 2);
+  EXPECT_EQ(c.err, r.err);
+  const Result allowed =
+      cli("check " + ini.string() + " --set grid.allow_edge_contact=true --out " + out.string());
+  EXPECT_EQ(allowed.status, 0);
+  EXPECT_NE(allowed.out.find("reaches the outermost cells"), std::string::npos) << allowed.out;
   const Result ok = cli("run " + ini.string() +
                         " --quiet --set grid.allow_edge_contact=true --out " + out.string());
   EXPECT_EQ(ok.status, 0) << ok.err;
@@ -242,9 +247,9 @@ TEST(Ramp, DisplacementRampBelowSlidingIsReportedAndWritesNoCycleRows) {
 }
 
 // A contact that grows past the domain during the history (a table raising F_z 27-fold:
-// a = 1/4 -> 3/4 on a domain of side 1): check predicts it from the table's largest F_z, the
-// run refuses it at the step where it happens (exit 2, one line naming the step and the key);
-// on a periodic grid the same history runs without a warning.
+// a = 1/4 -> 3/4 on a domain of side 1): the run refuses it at the step where it happens
+// (exit 2, one line naming the step and the key), and check with the same line, found from
+// the table's largest F_z; on a periodic grid the same history runs without a warning.
 TEST(EdgeLoad, ContactGrowingPastTheGridDuringTheHistory) {
   const double F0 = 4.0 / 3.0 / (1 - 0.09) * std::pow(0.25, 3);
   std::ofstream(work_dir() / "grow.csv") << std::setprecision(17) << "time,Fz,Fx\n0," << F0
@@ -254,9 +259,6 @@ TEST(EdgeLoad, ContactGrowingPastTheGridDuringTheHistory) {
       "[surface]\ntype = sphere\nradius = 1\n[load]\npath = table\ntable = grow.csv\n"
       "[solver]\nstiffness = false\n";
   const fs::path ini = write_ini("grow", text);
-  const Result c = cli("check " + ini.string());
-  EXPECT_EQ(c.status, 0);
-  EXPECT_NE(c.out.find("reaches the outermost cells"), std::string::npos) << c.out;
   const fs::path out = work_dir() / "grow_run";
   fs::remove_all(out);
   const Result r = cli("run " + ini.string() + " --quiet --out " + out.string());
@@ -265,6 +267,9 @@ TEST(EdgeLoad, ContactGrowingPastTheGridDuringTheHistory) {
   EXPECT_NE(r.err.find("grid.allow_edge_contact"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
   fs::remove_all(out);
+  const Result c = cli("check " + ini.string() + " --no-estimate --out " + out.string());
+  EXPECT_EQ(c.status, 2);
+  EXPECT_EQ(c.err, r.err);
   std::string ptext = text;
   ptext.replace(ptext.find("length = 1\n"), 11, "length = 1\nperiodic = true\n");
   const fs::path periodic = write_ini("grow_periodic", ptext);

@@ -8,6 +8,8 @@
 #include <string>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/history/model.hpp"
+#include "fretbem/scenario/ignored_keys.hpp"
 #include "fretbem/scenario/scenario.hpp"
 
 namespace fs = std::filesystem;
@@ -403,5 +405,68 @@ TEST(Scenario, JunkNeverCrashes) {
     } catch (const InputError& e) {
       EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
     }
+  }
+}
+
+// surface.spacing and load.allow_large_shift are read, bounded like every dimensional input,
+// and written to the resolved scenario.
+TEST(Scenario, SpacingAndLargeShiftKeys) {
+  const Scenario s = parse(kGood, {"surface.spacing=3.125e-5", "load.allow_large_shift=yes"});
+  ASSERT_TRUE(s.surface.spacing);
+  EXPECT_EQ(*s.surface.spacing, 3.125e-5);
+  EXPECT_TRUE(s.load.allow_large_shift);
+  const Scenario again = parse(s.resolved_text);
+  EXPECT_EQ(*again.surface.spacing, 3.125e-5);
+  EXPECT_TRUE(again.load.allow_large_shift);
+  EXPECT_HAS(parse(kGood).resolved_text, "# spacing = (unset)");
+  EXPECT_HAS(with("surface.spacing=1e300"), "[1e-100, 1e100]");
+  EXPECT_HAS(with("load.allow_large_shift=maybe"), "not a boolean");
+}
+
+// Every key of the conditional-key table is a scenario key: a bad value draws that key's own
+// message or none, never "unknown key" (a misspelt table entry would warn about nothing).
+TEST(Scenario, IgnoredKeyTableNamesRealKeys) {
+  const auto keys = fretbem::conditional_keys();
+  EXPECT_GE(keys.size(), 30u);
+  for (const auto& key : keys) try {
+      parse(kGood, {key + "=@@"});  // free text (surface.dataset) may pass
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).find("unknown"), std::string::npos)
+          << key << ": " << e.what();
+    }
+}
+
+// Each key the scenario's choices leave unread is named once with its condition; kGood (a
+// force-controlled sphere ramp) reads all of its own keys.
+TEST(Scenario, IgnoredKeysFollowTheScenarioChoices) {
+  EXPECT_TRUE(fretbem::ignored_keys(parse(kGood)).empty());
+  const auto ignored = fretbem::ignored_keys(parse(
+      kGood, {"surface.seed=4", "load.cycles=3", "load.displacement_amplitude=1e-6",
+              "wear.indenter_share=0.5", "solver.coupling_iterations=7", "surface.spacing=1e-6"}));
+  std::vector<std::string> keys;
+  for (const auto& k : ignored) keys.push_back(k.key);
+  EXPECT_EQ(keys, (std::vector<std::string>{"surface.seed", "surface.spacing",
+                                            "load.displacement_amplitude", "load.cycles",
+                                            "solver.coupling_iterations", "wear.indenter_share"}));
+  // The same key is read once the scenario chooses what reads it.
+  EXPECT_TRUE(fretbem::ignored_keys(parse(kGood, {"surface.type=rough", "surface.hurst=0.7",
+                                                  "surface.rms_height=1e-6", "surface.seed=4"}))
+                  .size() == 1);  // surface.radius, now on a rough surface
+}
+
+// A rough surface with no wavelength left to scale names the keys that decide it.
+TEST(Scenario, ZeroRoughnessNamesTheKeys) {
+  const Scenario s =
+      parse(kGood, {"surface.type=rough", "surface.hurst=0.7", "surface.rms_height=1e-6",
+                    "surface.seed=4", "surface.method=fourier", "surface.cutoff_wavelength=0.01"});
+  try {
+    fretbem::make_surface(s);
+    ADD_FAILURE() << "a cut-off longer than the domain left roughness";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_HAS(msg, "surface.cutoff_wavelength = 0.01 m");
+    EXPECT_HAS(msg, "grid.length = 0.002 m");
+    EXPECT_HAS(msg, "64 x 64");
+    EXPECT_HAS(msg, "surface.rms_height");
   }
 }

@@ -366,8 +366,14 @@ TEST_F(HeightMapFiles, NpyOrdersAndSinglePrecision) {
 
 TEST_F(HeightMapFiles, Hdf5DatasetChoice) {
   write_h5(file("multi.h5"), {{"a_vector", 1}, {"b_cube", 3}, {"c_height", 2}, {"d_other", 2}});
-  EXPECT_BITWISE_EQ(load_height_map(file("multi.h5")), z_);  // first 2-D one: c_height
+  // Several 2-D datasets and none named: refused, naming them (as an .npz with two arrays).
+  const std::string several = load_error(file("multi.h5"));
+  EXPECT_NE(several.find("2 2-D datasets (c_height, d_other)"), std::string::npos) << several;
+  EXPECT_NE(several.find("surface.dataset"), std::string::npos) << several;
+  EXPECT_BITWISE_EQ(load_height_map(file("multi.h5"), "c_height"), z_);
   EXPECT_BITWISE_EQ(load_height_map(file("multi.h5"), "d_other"), z_);
+  write_h5(file("one2d.h5"), {{"a_vector", 1}, {"height", 2}});
+  EXPECT_BITWISE_EQ(load_height_map(file("one2d.h5")), z_);  // the only 2-D one
   EXPECT_NE(load_error(file("multi.h5"), "nope").find("nope"), std::string::npos);
   EXPECT_NE(load_error(file("multi.h5"), "a_vector").find("2-D"), std::string::npos);
   write_h5(file("only1d.h5"), {{"v", 1}});
@@ -376,6 +382,36 @@ TEST_F(HeightMapFiles, Hdf5DatasetChoice) {
   EXPECT_NE(load_error(file("nan.h5")).find("NaN"), std::string::npos);
   write_text(file("fake.h5"), "1 2 3\n");
   EXPECT_NE(load_error(file("fake.h5")).find("not an HDF5"), std::string::npos);
+}
+
+// An HDF5 map carries its spacing as the dataset's attribute `spacing` (m): written by
+// save_height_map and read back; one value (square cells) or two in the array's index order.
+TEST_F(HeightMapFiles, Hdf5SpacingAttribute) {
+  save_height_map(file("spaced.h5"), z_, 2.5e-6);
+  const HeightMap m = read_height_map(file("spaced.h5"), "", HeightLayout::yx);
+  EXPECT_BITWISE_EQ(m.z, z_);
+  ASSERT_TRUE(m.dx && m.dy);
+  EXPECT_EQ(*m.dx, 2.5e-6);
+  EXPECT_EQ(*m.dy, 2.5e-6);
+  save_height_map(file("plain.h5"), z_);
+  const HeightMap plain = read_height_map(file("plain.h5"), "", HeightLayout::yx);
+  EXPECT_FALSE(plain.dx || plain.dy);
+  // Two values (first index, second index): y then x under layout yx, swapped under xy.
+  write_h5(file("pair.h5"), {{"height", 2}});
+  const hid_t f = H5Fopen(file("pair.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  const hid_t d = H5Dopen2(f, "height", H5P_DEFAULT);
+  const hsize_t two = 2;
+  const hid_t space = H5Screate_simple(1, &two, nullptr);
+  const hid_t a = H5Acreate2(d, "spacing", H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT);
+  const double pair[2] = {3e-6, 1e-6};
+  H5Awrite(a, H5T_NATIVE_DOUBLE, pair);
+  H5Aclose(a), H5Sclose(space), H5Dclose(d), H5Fclose(f);
+  const HeightMap yx = read_height_map(file("pair.h5"), "", HeightLayout::yx);
+  EXPECT_EQ(*yx.dy, 3e-6);
+  EXPECT_EQ(*yx.dx, 1e-6);
+  const HeightMap xy = read_height_map(file("pair.h5"), "", HeightLayout::xy);
+  EXPECT_EQ(*xy.dx, 3e-6);
+  EXPECT_EQ(*xy.dy, 1e-6);
 }
 
 TEST_F(HeightMapFiles, TextCommentsAndBlankLines) {

@@ -18,11 +18,13 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/hdf5.hpp"
+#include "fretbem/core/input_warning.hpp"
 #include "fretbem/core/output_lock.hpp"
 #include "fretbem/core/resources.hpp"
 #include "fretbem/core/stop_signal.hpp"
 #include "fretbem/history/check_report.hpp"
 #include "fretbem/history/cost_estimate.hpp"
+#include "fretbem/history/edge_preflight.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/resolution.hpp"
 #include "fretbem/history/stepper.hpp"
@@ -33,6 +35,7 @@
 #include "fretbem/io/result_recovery.hpp"
 #include "fretbem/io/resume_check.hpp"
 #include "fretbem/io/run_output.hpp"
+#include "fretbem/scenario/ignored_keys.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/study/ensemble.hpp"
 #include "fretbem/study/sweep.hpp"
@@ -154,9 +157,23 @@ Args parse_args(int argc, char** argv) {
   return a;
 }
 
+// Each distinct caution once: check's calibration prepares the model again.
+void print_input_warnings_once() {
+  set_input_warning_handler([seen = std::set<std::string>()](const std::string& w) mutable {
+    if (seen.insert(w).second) std::fprintf(stderr, "fretbem: warning: %s\n", w.c_str());
+  });
+}
+
+// A scenario file read by `run`, `check` or `surface`: its input cautions are printed (a resumed
+// run's were printed when it started), and `run` and `check` warn alike about every given key
+// the scenario's choices leave unread.
 Scenario read_scenario(const Args& a) {
   if (a.scenario.empty()) throw InputError(a.command + ": no scenario file given");
-  return load_scenario(a.scenario, a.sets);
+  print_input_warnings_once();
+  Scenario sc = load_scenario(a.scenario, a.sets);
+  if (a.command == "run" || a.command == "check")
+    for (const auto& w : ignored_key_warnings(sc)) input_warning(w);
+  return sc;
 }
 
 // Reads DIR/timeseries.csv back (resume): the rows a cycle summary has to replay.
@@ -315,11 +332,18 @@ int cmd_run(const Args& a) {
   }
 }
 
-// Everything `run` does before its first solve (prepare_model: files read, memory guard,
-// pre-flight checks), then the report; no operator is built.
+// Everything `run` refuses before its tangential solves, with run's line and exit code:
+// prepare_model (files read, memory guard, pre-flight checks), the output folder, and the
+// edge-contact refusal of the normal loading (solved only where Hertz says it may apply);
+// then the report.
 int cmd_check(const Args& a) {
-  const auto model = prepare_model(read_scenario(a));
+  Scenario scenario = read_scenario(a);
+  if (!a.out.empty()) set_output_dir(scenario, a.out);
+  const auto model = prepare_model(scenario);
   const Scenario& sc = model->scenario;
+  check_output_dir(sc.output.dir, a.overwrite);
+  check_edge_contact_of_path(sc, model->path);
+  release_input_warnings();  // every refusal run makes before its first step is behind
   if (sc.wear.law == WearLaw::none)
     std::printf("%s: ok (%d x %d grid, %zu load steps)\n", a.scenario.c_str(), sc.grid.nx,
                 sc.grid.ny, model->path.steps.size());
@@ -332,15 +356,12 @@ int cmd_check(const Args& a) {
     for (const auto& line : describe(*p, sc)) std::printf("  %s\n", line.c_str());
   if (!a.estimate) return 0;
   std::fflush(stdout);  // the report stands while the calibration solves
-  // A refusal met by the first solves (edge contact, above) is the run's to report: check
-  // keeps its verdict and says why there is no estimate.
+  // A refusal the calibration meets is one the run meets too: it ends check with exit 2.
   try {
     if (sc.wear.law == WearLaw::none)
       std::fputs(describe(estimate_run_cost(sc), model->path.steps.size()).c_str(), stdout);
     else
       std::fputs(describe(estimate_wear_cost(sc), sc.wear).c_str(), stdout);
-  } catch (const InputError& e) {
-    std::printf("  cost: not estimated (%s)\n", e.what());
   } catch (const SolverError& e) {
     // The inputs are valid, so check's verdict stands; the failure the run will meet is said.
     std::printf("  cost: not estimated (the calibration solve failed)\n");
@@ -365,7 +386,7 @@ int cmd_surface(const Args& a) {
                                                           with_default_scale(a.sets))
                                          : read_scenario(a);
   const Field z = make_surface(sc);
-  save_height_map(a.out, z);
+  save_height_map(a.out, z, sc.grid.h);
   const SurfaceStats st = surface_statistics(sc.grid, z);
   std::printf("surface %s: %d x %d, h = %g m\n", a.out.c_str(), sc.grid.nx, sc.grid.ny, sc.grid.h);
   std::printf("  rms height %.6g m\n  rms slope  %.6g\n  min %.6g m  max %.6g m\n", st.rms_height,

@@ -1,13 +1,13 @@
 // `fretbem check` report lines (see check_report.hpp).
 #include "fretbem/history/check_report.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
 #include "fretbem/core/format.hpp"
 #include "fretbem/history/preflight.hpp"
+#include "fretbem/surface/formats.hpp"
 
 namespace fretbem {
 
@@ -20,43 +20,25 @@ std::string num(double v) {
   return b;
 }
 
-bool given(const Scenario& sc, const std::string& key) {
-  return std::binary_search(sc.given_keys.begin(), sc.given_keys.end(), key);
+// Where the spacing the run uses was checked from, or that nothing checked it.
+std::string spacing_origin(const SurfaceSpec& s) {
+  const HeightMap file = read_height_map(s.file, s.dataset, s.layout);
+  if (file.dx || file.dy) return "the file's, checked against grid.length / n";
+  if (s.spacing) return "surface.spacing, checked against grid.length / n";
+  return "grid.length / n: neither the file nor surface.spacing gives one to check";
 }
 
-// Keys that have no effect under the scenario's path and control: (key, why) pairs.
-std::vector<std::pair<std::string, std::string>> ignored_keys(const Scenario& sc) {
-  const LoadSpec& l = sc.load;
-  std::vector<std::pair<std::string, std::string>> out;
-  auto unused = [&](const char* key, const std::string& why) {
-    if (given(sc, key)) out.emplace_back(key, why);
-  };
-  const bool scripted = l.path == PathType::ramp || l.path == PathType::sine;
-  if (!scripted || l.control == Control::displacement)
-    unused("load.amplitude", scripted ? "load.control = displacement" : "this load.path");
-  if (!scripted || l.control == Control::force)
-    unused("load.displacement_amplitude", scripted ? "load.control = force" : "this load.path");
-  if (l.path != PathType::sine) {
-    unused("load.cycles", "load.path is not sine");
-    unused("load.steps_per_cycle", "load.path is not sine");
-  }
-  if (l.path != PathType::ramp) unused("load.steps", "load.path is not ramp");
-  if (l.path != PathType::table) unused("load.table", "load.path is not table");
-  if (l.path == PathType::none || l.path == PathType::table)
-    unused("load.direction", "load.path = none or table");
-  if (l.path == PathType::table) unused("load.control", "a table's columns choose the control");
-  if (sc.surface.type != SurfaceType::sphere)
-    unused("surface.radius", "surface.type is not sphere");
-  if (sc.surface.type != SurfaceType::file) {
-    unused("surface.file", "surface.type is not file");
-    unused("surface.dataset", "surface.type is not file");
-  }
-  if (sc.wear.law != WearLaw::none) unused("load.cycles", "wear runs ignore load.cycles");
-  if (sc.solver.coupling != Coupling::coupled) {
-    unused("solver.coupling_tolerance", "solver.coupling is not coupled");
-    unused("solver.coupling_iterations", "solver.coupling is not coupled");
-  }
-  return out;
+// A loaded height map as the run sees it: shape, range, rms and the spacing's origin.
+void height_map_lines(const Model& m, std::ostringstream& o) {
+  const Scenario& sc = m.scenario;
+  if (sc.surface.type != SurfaceType::file) return;
+  const Field& z = m.surface0;
+  const double mean = z.mean();
+  const double rms = std::sqrt((z.array() - mean).square().mean());
+  o << "  height map " << sc.surface.file.string() << ": " << z.rows() << " x " << z.cols()
+    << " (x by y), heights " << num(z.minCoeff()) << " .. " << num(z.maxCoeff()) << " m, rms "
+    << num(rms) << " m about the mean\n"
+    << "  height map spacing " << num(sc.grid.h) << " m (" << spacing_origin(sc.surface) << ")\n";
 }
 
 void wear_lines(const Model& m, std::ostringstream& o) {
@@ -81,17 +63,17 @@ std::string check_report(const Model& m) {
             : " (normal-tangential coupling neglected; solver.coupling = coupled solves it)\n");
   o << "  cell h = " << num(sc.grid.h) << " m, domain " << num(sc.grid.h * sc.grid.nx) << " x "
     << num(sc.grid.h * sc.grid.ny) << " m" << (sc.grid.periodic ? " (periodic)" : "") << "\n";
+  height_map_lines(m, o);
   if (s.hertz_a > 0.0)
     o << "  Hertz at Fz = " << num(s.max_normal_force) << " N: a = " << num(s.hertz_a)
       << " m, p0 = " << num(s.hertz_p0) << " Pa, delta = " << num(s.hertz_delta) << " m\n";
-  if (s.full_sliding_shift > 0.0)
-    o << "  full-sliding shift U* = mu delta E*/G* = " << num(s.full_sliding_shift) << " m\n";
+  o << "  full-sliding shift U* = mu delta E*/G* = " << num(s.full_sliding_shift) << " m"
+    << (s.approach_known ? "" : " at most (delta bounded by the largest displacement scale)")
+    << "\n";
   if (sc.wear.law == WearLaw::none)
     o << "  " << m.path.steps.size() << " load steps (each one normal and one tangential solve)\n";
   o << "  memory: about " << num(std::round(estimated_peak_bytes(sc) / (1 << 20))) << " MiB\n";
   wear_lines(m, o);
-  for (const auto& [key, why] : ignored_keys(sc))
-    o << "  warning: " << key << " is ignored (" << why << ")\n";
   return o.str();
 }
 

@@ -6,6 +6,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/input_warning.hpp"
 #include "fretbem/core/resources.hpp"
 #include "fretbem/elastic/fft_wisdom.hpp"
 #include "fretbem/history/cycle_predictor.hpp"
@@ -19,9 +20,40 @@ std::string shape_text(const Field& z) {
   return std::to_string(z.rows()) + " x " + std::to_string(z.cols());
 }
 
+// x3p stores the increments as decimal text: agree to 1e-6 relative (6+ digits written).
+bool same_spacing(double a, double b) {
+  return std::abs(a - b) <= 1e-6 * std::max(a, b);
+}
+
+// The map's spacing from the file (x3p, .npz, HDF5) or surface.spacing must be grid.length / n;
+// a given surface.spacing must also agree with the file's. A map with neither (.npy, text, or
+// files without the metadata) is taken at grid.length / n, so that scenarios written without
+// surface.spacing keep running, with a warning that nothing checked it.
+void check_spacing(const SurfaceSpec& s, const Grid& g, const HeightMap& m,
+                   const std::string& where) {
+  for (const auto& [name, d] : {std::pair{"x", m.dx}, std::pair{"y", m.dy}}) {
+    if (d && s.spacing && !same_spacing(*d, *s.spacing))
+      throw InputError(where + " spacing along " + name + " is " + format_number(*d) +
+                       " m in the file but surface.spacing = " + format_number(*s.spacing) + " m");
+    const std::optional<double> spacing = d ? d : s.spacing;
+    if (spacing && !same_spacing(*spacing, g.h))
+      throw InputError(where + " spacing along " + name + " is " + format_number(*spacing) +
+                       (d ? " m in the file" : " m (surface.spacing)") +
+                       " but grid.length / n = " + format_number(g.h) + " m; set grid.length = " +
+                       format_number(*spacing * g.nx) + " (a height map is never rescaled)");
+  }
+  if (!m.dx && !m.dy && !s.spacing)
+    input_warning(where +
+                  " carries no spacing and surface.spacing is not given: its cells "
+                  "are taken as grid.length / n = " +
+                  format_number(g.h) + " m; set surface.spacing to have that checked");
+}
+
 // A height map must fit the grid as it stands: a transposed file or a file whose own spacing
 // (x3p) disagrees with grid.length / n is an error, never a silent transpose or rescale.
-Field file_surface(const SurfaceSpec& s, const Grid& g) {
+Field file_surface(const Scenario& sc) {
+  const SurfaceSpec& s = sc.surface;
+  const Grid& g = sc.grid;
   HeightMap m = read_height_map(s.file, s.dataset, s.layout);
   const std::string where = s.file.string() + ": height map";
   const Field& z = m.z;
@@ -38,13 +70,8 @@ Field file_surface(const SurfaceSpec& s, const Grid& g) {
                      (s.layout == HeightLayout::yx ? "yx" : "xy") + ") but the grid is " +
                      std::to_string(g.nx) + " x " + std::to_string(g.ny) + hint);
   }
-  // x3p stores the increments as decimal text: agree to 1e-6 relative (6+ digits written).
-  for (const auto& [name, d] : {std::pair{"x", m.dx}, std::pair{"y", m.dy}})
-    if (d && std::abs(*d - g.h) > 1e-6 * g.h)
-      throw InputError(where + " spacing along " + name + " is " + format_number(*d) +
-                       " m in the file but grid.length / n = " + format_number(g.h) +
-                       " m; set grid.length = " + format_number(*d * g.nx) +
-                       " (a height map is never rescaled)");
+  check_heights(sc, z);  // before the spacing's warning: a refused map gets one line
+  check_spacing(s, g, m, where);
   return std::move(m.z);
 }
 
@@ -64,9 +91,7 @@ void check_wear_path(const Scenario& sc, const LoadPath& path) {
         "cycle from a traction-free state, is not the periodic state of a 2-D path)");
 }
 
-}  // namespace
-
-Field make_surface(const Scenario& sc) {
+Field generated_or_loaded_surface(const Scenario& sc) {
   const Grid& g = sc.grid;
   switch (sc.surface.type) {
     case SurfaceType::sphere:
@@ -76,9 +101,18 @@ Field make_surface(const Scenario& sc) {
     case SurfaceType::rough:
       return rough_surface(g, sc.surface.rough);
     case SurfaceType::file:
-      return file_surface(sc.surface, g);
+      return file_surface(sc);
   }
   throw InputError("surface.type: unknown");
+}
+
+}  // namespace
+
+// Every surface, whoever asks (run, check, `fretbem surface`), within the bound of the inputs.
+Field make_surface(const Scenario& sc) {
+  Field z = generated_or_loaded_surface(sc);
+  check_heights(sc, z);
+  return z;
 }
 
 // Peak RSS measured on the Cattaneo scenario (analogy, one tangential component, fields

@@ -8,6 +8,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/input_warning.hpp"
 
 namespace fretbem {
 
@@ -87,20 +88,50 @@ void check_strain(const Scenario& sc, const ContactScales& s) {
                      " m (strain above 1): check the unit (m)");
 }
 
+// The key or table columns a tangential shift came from.
+std::string shift_source(const Scenario& sc) {
+  return sc.load.path == PathType::table ? sc.load.table.string() + ": Ux/Uy"
+                                         : "load.displacement_amplitude";
+}
+
 void check_shift(const Scenario& sc, const ContactScales& s) {
-  // Where the approach is not known before a solve, the largest displacement scale stands in.
-  const double u_star = sc.material.mu * s.normal_displacement * s.E_star / s.G_star;
-  if (s.max_tangential_shift <= kMaxShiftOverFullSliding * u_star) return;
-  const std::string key = sc.load.path == PathType::table ? sc.load.table.string() + ": Ux/Uy"
-                                                          : "load.displacement_amplitude";
-  throw InputError(
-      key + ": a shift of " + format_number(s.max_tangential_shift) +
-      " m is over 1e6 times the full-sliding shift U* = mu delta E*/G* = " + format_number(u_star) +
-      " m: past that the solver cannot resolve the contact's elastic response; "
-      "the loop is pure gross sliding (check the unit: m)");
+  if (s.max_tangential_shift <= kMaxShiftOverFullSliding * s.full_sliding_shift) return;
+  throw InputError(shift_source(sc) + ": a shift of " + format_number(s.max_tangential_shift) +
+                   " m is over 1e6 times the full-sliding shift U* = mu delta E*/G* = " +
+                   format_number(s.full_sliding_shift) +
+                   " m: past that the solver cannot resolve the contact's elastic response; "
+                   "the loop is pure gross sliding (check the unit: m)");
+}
+
+std::string contact_radius_text(const Scenario& sc, const ContactScales& s) {
+  return (sc.surface.type == SurfaceType::sphere ? "the Hertz contact radius a = "
+                                                 : "half the domain side, a = ") +
+         format_printf("%.4g", s.contact_radius) + " m";
+}
+
+void check_small_slip(const Scenario& sc, const ContactScales& s) {
+  if (!(s.contact_radius > 0.0)) return;
+  const double radii = s.max_tangential_shift / s.contact_radius;
+  if (radii <= kWarnShiftOverContactRadius) return;
+  const std::string what = shift_source(sc) + ": a shift of " +
+                           format_number(s.max_tangential_shift) + " m is " +
+                           format_printf("%.3g", radii) + " times " + contact_radius_text(sc, s) +
+                           "; the model keeps the contact geometry "
+                           "fixed (small slip)";
+  if (radii <= kMaxShiftOverContactRadius || sc.load.allow_large_shift) {
+    input_warning(what + ", which such a shift strains (results lose accuracy)");
+    return;
+  }
+  throw InputError(what +
+                   ", which a shift past one contact radius breaks: check the unit (m), "
+                   "or set load.allow_large_shift = true to run anyway");
 }
 
 }  // namespace
+
+double full_sliding_shift(double mu, double approach, double E_star, double G_star) {
+  return mu * approach * E_star / G_star;
+}
 
 ContactScales contact_scales(const Scenario& sc, const LoadPath& path, const Field& surface) {
   ContactScales s;
@@ -121,11 +152,18 @@ ContactScales contact_scales(const Scenario& sc, const LoadPath& path, const Fie
     s.hertz_delta = s.hertz_a * s.hertz_a / R;
     delta = std::max(delta, s.hertz_delta);
   }
-  // The approach is known before a solve for a sphere (Hertz) or under indentation control.
-  const double known = std::max(s.max_indentation, s.hertz_delta);
-  s.full_sliding_shift = sc.material.mu * known * s.E_star / s.G_star;
   if (surface.size() > 0) delta = std::max(delta, surface.maxCoeff() - surface.minCoeff());
   s.normal_displacement = delta;
+  // The approach is known before a solve for a sphere (Hertz) or under indentation control;
+  // elsewhere the largest displacement scale bounds it.
+  const double known = std::max(s.max_indentation, s.hertz_delta);
+  s.approach_known = known > 0.0;
+  s.full_sliding_shift =
+      full_sliding_shift(sc.material.mu, s.approach_known ? known : delta, s.E_star, s.G_star);
+  if (sc.surface.type == SurfaceType::sphere)
+    s.contact_radius = std::max(s.hertz_a, std::sqrt(sc.surface.radius * s.max_indentation));
+  else
+    s.contact_radius = 0.5 * std::min(L, sc.grid.h * sc.grid.ny);
   return s;
 }
 
@@ -141,13 +179,14 @@ void check_heights(const Scenario& sc, const Field& surface) {
 }
 
 void check_before_solve(const Scenario& sc, const LoadPath& path, const Field& surface) {
-  check_heights(sc, surface);
+  check_heights(sc, surface);  // a surface handed in (Python's Model) met no make_surface
   check_periodic_indentation(sc, path);
   check_wear_path(sc);
   check_table_friction(sc, path);
   const ContactScales s = contact_scales(sc, path, surface);
   check_strain(sc, s);
   check_shift(sc, s);
+  check_small_slip(sc, s);
 }
 
 }  // namespace fretbem

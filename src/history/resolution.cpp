@@ -6,6 +6,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/history/preflight.hpp"
 
 namespace fretbem {
 
@@ -86,7 +87,7 @@ std::optional<SpherePrediction> predict_sphere(const Scenario& sc) {
                        : std::sqrt(R * *l.indentation);
   p.a_over_h = p.a / h;
   p.contact_nodes = M_PI * p.a_over_h * p.a_over_h;
-  p.ustar = m.mu * (p.a * p.a / R) * Es / m.G_star();
+  p.ustar = full_sliding_shift(m.mu, p.a * p.a / R, Es, m.G_star());
   const bool cyclic = l.path == PathType::ramp || l.path == PathType::sine;
   if (cyclic && l.control == Control::force) p.q = l.amplitude;
   if (cyclic && l.control == Control::displacement) {

@@ -5,6 +5,7 @@
 
 #include "fretbem/contact/monotone_shortcut.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/input_warning.hpp"
 #include "fretbem/history/resolution.hpp"
 
 namespace fretbem {
@@ -96,6 +97,9 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
   rec.dissipation = dissipation_;
   rec.wear_volume = wear_volume_;
   rec.convolutions = int(hs.convolutions() - conv0);
+  // A solved step: no refusal of the inputs can precede its cautions any more (step 0's
+  // edge-contact refusal comes after its normal solve).
+  release_input_warnings();
   return rec;
 }
 

@@ -65,16 +65,20 @@ std::string new_run_id() {
   return buf;
 }
 
-void prepare_output_dir(const fs::path& dir, bool overwrite) {
+bool check_output_dir(const fs::path& dir, bool overwrite) {
   std::error_code ec;
   std::string found;
   for (const char* f : kRunFiles)
     if (fs::exists(dir / f, ec)) found += (found.empty() ? "" : ", ") + std::string(f);
-  if (found.empty()) return;
+  if (found.empty()) return false;
   if (!overwrite)
     throw InputError(dir.string() + ": holds the results of another run (" + found +
                      "); pass --overwrite to replace them, or choose another --out");
-  set_aside_results(dir);
+  return true;
+}
+
+void prepare_output_dir(const fs::path& dir, bool overwrite) {
+  if (check_output_dir(dir, overwrite)) set_aside_results(dir);
 }
 
 void check_output_files(const fs::path& dir) {

@@ -81,6 +81,7 @@ void write_surface(IniWriter& w, const SurfaceSpec& s) {
   else
     w.put("dataset", s.dataset);
   w.put("layout", std::string(s.layout == HeightLayout::xy ? "xy" : "yx"));
+  w.put("spacing", s.spacing);
 }
 
 void write_load(IniWriter& w, const LoadSpec& l) {
@@ -97,6 +98,7 @@ void write_load(IniWriter& w, const LoadSpec& l) {
   w.put("steps_per_cycle", l.steps_per_cycle);
   w.put("steps", l.steps);
   w.put("table", l.table);
+  w.put("allow_large_shift", l.allow_large_shift);
 }
 
 void write_solver(IniWriter& w, const SolverSpec& s) {

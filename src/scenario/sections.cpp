@@ -130,6 +130,7 @@ void read_surface(const Reader& r, const fs::path& base, SurfaceSpec& s) {
   if (r.has("surface.radius")) s.radius = r.magnitude("surface.radius");
   read_rough(r, s.rough);
   if (r.has("surface.dataset")) s.dataset = r.raw("surface.dataset");
+  if (r.has("surface.spacing")) s.spacing = r.magnitude("surface.spacing");
   if (r.has("surface.layout"))
     s.layout = static_cast<HeightLayout>(r.choice("surface.layout", {"yx", "xy"}));
   const bool is_file = s.type == SurfaceType::file;
@@ -192,6 +193,7 @@ void read_load_values(const Reader& r, const fs::path& base, LoadSpec& l) {
     l.steps_per_cycle = static_cast<int>(r.integer("load.steps_per_cycle", 4, 1 << 30));
   if (r.has("load.steps")) l.steps = static_cast<int>(r.integer("load.steps", 1, 1 << 30));
   if (r.has("load.table")) l.table = r.path("load.table", base, l.path == PathType::table);
+  if (r.has("load.allow_large_shift")) l.allow_large_shift = r.boolean("load.allow_large_shift");
 }
 
 void check_amplitudes(const Reader& r, const LoadSpec& l) {

@@ -33,10 +33,14 @@ std::string strip_comment(const std::string& line) {
   return line;
 }
 
+// Every item between commas, empty ones included: "1, 2," is three items, the last one
+// empty, so that a trailing comma is refused as an empty item inside is.
 std::vector<std::string> split_commas(const std::string& s) {
   std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string t; std::getline(ss, t, ',');) out.push_back(trim(t));
+  std::size_t start = 0;
+  for (std::size_t comma; (comma = s.find(',', start)) != std::string::npos; start = comma + 1)
+    out.push_back(trim(s.substr(start, comma - start)));
+  out.push_back(trim(s.substr(start)));
   return out;
 }
 
@@ -195,13 +199,15 @@ int read_max_grid_n(const fs::path& file, const std::map<std::string, std::strin
 std::vector<std::string> parse_sweep_values(const std::string& key, const std::string& text) {
   if (text.rfind("linear(", 0) == 0) return range_values(key, text, false);
   if (text.rfind("log(", 0) == 0) return range_values(key, text, true);
+  if (trim(text).empty()) throw InputError("[vary] " + key + ": no values");
   std::vector<std::string> out;
   for (const auto& v : split_commas(text)) {
-    if (v.empty()) throw InputError("[vary] " + key + " = " + text + ": empty value in the list");
+    if (v.empty())
+      throw InputError("[vary] " + key + " = " + text +
+                       ": empty value in the list (a doubled or trailing comma)");
     double x = 0;
     out.push_back(parse_double(v, x) ? format_number(x) : v);
   }
-  if (out.empty()) throw InputError("[vary] " + key + ": no values");
   return out;
 }
 
@@ -256,7 +262,11 @@ SweepSpec load_sweep_spec(const fs::path& file, const std::vector<std::string>& 
   s.sets = f.sets;
   s.sets.insert(s.sets.end(), extra_sets.begin(), extra_sets.end());
   if (f.vary.empty()) throw InputError(file.string() + ": [vary] names no key to vary");
-  for (const auto& [key, text] : f.vary) s.axes.push_back({key, parse_sweep_values(key, text)});
+  for (const auto& [key, text] : f.vary) try {
+      s.axes.push_back({key, parse_sweep_values(key, text)});
+    } catch (const InputError& e) {
+      throw InputError(file.string() + ": " + e.what());
+    }
   for (const auto& a : s.axes)
     if (s.zip && a.values.size() != s.axes.front().values.size())
       throw InputError(file.string() + ": combine = zip needs equally many values, but " +

@@ -39,6 +39,14 @@ void require_sane_shape(const std::filesystem::path& file, unsigned long long ny
                "array shape (" + std::to_string(ny) + ", " + std::to_string(nx) + ") is too large");
 }
 
+std::string name_list(const std::vector<std::string>& names) {
+  constexpr std::size_t kShown = 8;  // one line, even for a results file
+  std::string list;
+  for (std::size_t i = 0; i < names.size() && i < kShown; ++i) list += (i ? ", " : "") + names[i];
+  if (names.size() > kShown) list += ", ...";
+  return list;
+}
+
 }  // namespace surface_detail
 
 namespace {
@@ -77,21 +85,39 @@ int dataset_rank(hid_t dset) {
   return space.valid() ? H5Sget_simple_extent_ndims(space.get()) : -1;
 }
 
-// H5Lvisit callback: stops (returns 1) at the first hard link to a 2-D dataset.
-herr_t find_2d_dataset(hid_t group, const char* name, const H5L_info_t* info, void* found) {
+// H5Lvisit callback: collects the hard links to 2-D datasets, in name order.
+herr_t list_2d_datasets(hid_t group, const char* name, const H5L_info_t* info, void* found) {
   if (info->type != H5L_TYPE_HARD) return 0;
   hdf5::Dataset d(H5Dopen2(group, name, H5P_DEFAULT));
-  if (!d.valid() || dataset_rank(d.get()) != 2) return 0;
-  *static_cast<std::string*>(found) = name;
-  return 1;
+  if (d.valid() && dataset_rank(d.get()) == 2)
+    static_cast<std::vector<std::string>*>(found)->push_back(name);
+  return 0;
 }
 
+// Without surface.dataset the file must hold one 2-D dataset: taking the first of several
+// would pick a map by its name's sort order (as .npz files, refused naming them).
 std::string choose_dataset(const std::filesystem::path& file, hid_t f, const std::string& name) {
   if (!name.empty()) return name;
-  std::string found;
-  if (H5Lvisit(f, H5_INDEX_NAME, H5_ITER_INC, find_2d_dataset, &found) < 0 || found.empty())
+  std::vector<std::string> found;
+  if (H5Lvisit(f, H5_INDEX_NAME, H5_ITER_INC, list_2d_datasets, &found) < 0 || found.empty())
     file_error(file, "no 2-D dataset in the file");
-  return found;
+  if (found.size() > 1)
+    file_error(file, "holds " + std::to_string(found.size()) + " 2-D datasets (" +
+                         surface_detail::name_list(found) + "): name one with surface.dataset");
+  return found.front();
+}
+
+// The dataset's attribute `spacing`, if it has one: 1 or 2 numbers (m).
+std::vector<double> h5_spacing(const std::filesystem::path& file, hid_t d) {
+  if (H5Aexists(d, "spacing") <= 0) return {};
+  hdf5::Attribute a(H5Aopen(d, "spacing", H5P_DEFAULT));
+  hdf5::Space space(a.valid() ? H5Aget_space(a.get()) : H5I_INVALID_HID);
+  const hssize_t n = space.valid() ? H5Sget_simple_extent_npoints(space.get()) : -1;
+  if (n < 1 || n > 2) file_error(file, "attribute 'spacing' must hold 1 or 2 numbers (m)");
+  std::vector<double> v(static_cast<std::size_t>(n));
+  if (H5Aread(a.get(), H5T_NATIVE_DOUBLE, v.data()) < 0)
+    file_error(file, "attribute 'spacing' could not be read as numbers");
+  return v;
 }
 
 Field read_h5_dataset(const std::filesystem::path& file, hid_t d, const std::string& name) {
@@ -116,7 +142,7 @@ Field read_h5_dataset(const std::filesystem::path& file, hid_t d, const std::str
   return z;
 }
 
-Field load_h5(const std::filesystem::path& file, const std::string& dataset) {
+HeightMap load_h5(const std::filesystem::path& file, const std::string& dataset) {
   hdf5::Quiet quiet;
   if (H5Fis_hdf5(file.c_str()) <= 0) file_error(file, "not an HDF5 file");
   hdf5::File f(H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
@@ -124,10 +150,13 @@ Field load_h5(const std::filesystem::path& file, const std::string& dataset) {
   const std::string name = choose_dataset(file, f.get(), dataset);
   hdf5::Dataset d(H5Dopen2(f.get(), name.c_str(), H5P_DEFAULT));
   if (!d.valid()) file_error(file, "no dataset '" + name + "'");
-  return read_h5_dataset(file, d.get(), name);
+  HeightMap m{read_h5_dataset(file, d.get(), name), {}, {}};
+  if (const auto v = h5_spacing(file, d.get()); !v.empty())
+    surface_detail::set_spacing(file, v, "attribute 'spacing' of dataset '" + name + "'", m);
+  return m;
 }
 
-void save_h5(const std::filesystem::path& file, const Field& z) {
+void save_h5(const std::filesystem::path& file, const Field& z, std::optional<double> spacing) {
   hdf5::Quiet quiet;
   hdf5::File f(H5Fcreate(file.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
   if (!f.valid()) file_error(file, "cannot create HDF5 file");
@@ -138,6 +167,12 @@ void save_h5(const std::filesystem::path& file, const Field& z) {
   if (!space.valid() || !d.valid() ||
       H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, z.data()) < 0)
     file_error(file, "cannot write dataset 'height'");
+  if (!spacing) return;
+  hdf5::Space scalar(H5Screate(H5S_SCALAR));
+  hdf5::Attribute a(
+      H5Acreate2(d.get(), "spacing", H5T_IEEE_F64LE, scalar.get(), H5P_DEFAULT, H5P_DEFAULT));
+  if (!a.valid() || H5Awrite(a.get(), H5T_NATIVE_DOUBLE, &*spacing) < 0)
+    file_error(file, "cannot write attribute 'spacing'");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -252,6 +287,33 @@ Field surface_detail::parse_npy(const std::filesystem::path& path, const std::st
   return z;
 }
 
+std::vector<double> surface_detail::parse_npy_values(const std::filesystem::path& path,
+                                                     const std::string& data,
+                                                     const std::string& member) {
+  const std::filesystem::path file = path.string() + ":" + member;
+  const NpyHeader h = parse_npy_header(file, data);
+  long long count = 1;
+  for (const long long n : h.shape) count *= n;
+  if (h.descr != "<f8" || h.shape.size() > 1 || count < 1 || count > 2 ||
+      data.size() - h.data_offset != std::size_t(count) * 8)
+    file_error(file, "must be a '<f8' scalar or 1 or 2 values (the spacing in m)");
+  std::vector<double> v;
+  for (long long k = 0; k < count; ++k)
+    v.push_back(npy_value(data.data() + h.data_offset + 8 * k, false));
+  return v;
+}
+
+void surface_detail::set_spacing(const std::filesystem::path& file,
+                                 const std::vector<double>& values, const std::string& where,
+                                 HeightMap& m) {
+  for (const double v : values)
+    if (!(v >= 1e-100 && v <= 1e100))
+      file_error(file, where + " = " + format_number(v) +
+                           " is not a length within [1e-100, 1e100] m (the spacing, SI)");
+  m.dy = values.front();
+  m.dx = values.back();
+}
+
 namespace {
 
 Field load_npy(const std::filesystem::path& file) {
@@ -356,11 +418,12 @@ HeightMap read_height_map(const std::filesystem::path& file, const std::string& 
     if (ext == ".x3p") {
       m = surface_detail::load_x3p(file);
     } else {
-      m.z = ext == ".h5" || ext == ".hdf5" ? load_h5(file, dataset)
-            : ext == ".npy"                ? load_npy(file)
-            : ext == ".npz"                ? surface_detail::load_npz(file, dataset)
-                                           : load_text(file);
-      if (layout == HeightLayout::xy) m.z = Field(m.z.transpose());
+      m = ext == ".h5" || ext == ".hdf5" ? load_h5(file, dataset)
+          : ext == ".npz"                ? surface_detail::load_npz(file, dataset)
+          : ext == ".npy"                ? HeightMap{load_npy(file), {}, {}}
+                                         : HeightMap{load_text(file), {}, {}};
+      // Stored spacings follow the array's index order (set_spacing): yx puts y first.
+      if (layout == HeightLayout::xy) m.z = Field(m.z.transpose()), std::swap(m.dx, m.dy);
     }
     require_finite(file, m.z);
     return m;
@@ -371,12 +434,13 @@ HeightMap read_height_map(const std::filesystem::path& file, const std::string& 
   }
 }
 
-void save_height_map(const std::filesystem::path& file, const Field& z) {
+void save_height_map(const std::filesystem::path& file, const Field& z,
+                     std::optional<double> spacing) {
   if (z.size() == 0) file_error(file, "refusing to write an empty height map");
   require_finite(file, z);
   const std::string ext = lower_extension(file);
   if (ext == ".h5" || ext == ".hdf5")
-    save_h5(file, z);
+    save_h5(file, z, spacing);
   else if (ext == ".npy")
     save_npy(file, z);
   else

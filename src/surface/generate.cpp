@@ -7,6 +7,7 @@
 #include <string>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/format.hpp"
 #include "spectrum.hpp"
 
 namespace fretbem {
@@ -62,15 +63,27 @@ class Gaussian {
   bool has_spare_ = false;
 };
 
+// Names the keys that decide which wavelengths the grid holds: the grid (n, length) and the
+// Fourier limits; no mode between them leaves nothing to scale.
+std::string zero_roughness_message(const Grid& g, const RoughSpec& s) {
+  std::string keys = "grid.nx x grid.ny = " + std::to_string(g.nx) + " x " + std::to_string(g.ny) +
+                     ", grid.length = " + format_number(g.length_x()) + " m";
+  if (s.cutoff_wavelength > 0)
+    keys += ", surface.cutoff_wavelength = " + format_number(s.cutoff_wavelength) + " m";
+  if (s.rolloff_wavelength > 0)
+    keys += ", surface.rolloff_wavelength = " + format_number(s.rolloff_wavelength) + " m";
+  return "surface.type = rough: the generated field has zero roughness (" + keys +
+         "): no wavelength between the cell size and the cut-off is left to scale to " +
+         (s.rms_height ? "surface.rms_height" : "surface.rms_slope") +
+         "; raise grid.n, or set surface.cutoff_wavelength below grid.length";
+}
+
 // Removes the mean and scales to the requested rms height or slope. Both measures are
 // homogeneous of degree one in z, so one multiplication makes them exact to round-off.
 Field normalise(const Grid& g, Field z, const RoughSpec& s) {
   z -= z.mean();
   const double now = s.rms_height ? rms_about_mean(z) : rms_slope_of(g, z);
-  if (!positive_finite(now))
-    throw InputError(
-        "rough surface: generated field has zero roughness on this grid "
-        "(grid too small, or cut-off wavelength too long)");
+  if (!positive_finite(now)) throw InputError(zero_roughness_message(g, s));
   z *= (s.rms_height ? *s.rms_height : *s.rms_slope) / now;
   return z;
 }

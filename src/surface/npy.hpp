@@ -3,8 +3,10 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "fretbem/elastic/grid.hpp"
+#include "fretbem/surface/formats.hpp"
 
 namespace fretbem::surface_detail {
 
@@ -12,6 +14,16 @@ namespace fretbem::surface_detail {
 /// z(i, j) = array[j][i]. `file` (and `member`, for an .npz entry) name it in messages.
 Field parse_npy(const std::filesystem::path& file, const std::string& data,
                 const std::string& member = "");
+
+/// Parses the bytes of a .npy file holding a grid spacing: a '<f8' scalar, or 1 or 2 values.
+std::vector<double> parse_npy_values(const std::filesystem::path& file, const std::string& data,
+                                     const std::string& member);
+
+/// Sets m.dx and m.dy from stored spacing values: one value (square cells) or two in the
+/// array's index order (first index, second index; layout yx: y then x). Refuses values that
+/// are not lengths within [1e-100, 1e100] m, the bound of every dimensional input.
+void set_spacing(const std::filesystem::path& file, const std::vector<double>& values,
+                 const std::string& where, HeightMap& m);
 
 /// Throws InputError "height map 'FILE': WHAT".
 [[noreturn]] void file_error(const std::filesystem::path& file, const std::string& what);

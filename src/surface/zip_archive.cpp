@@ -81,22 +81,27 @@ std::string ZipArchive::read(const std::string& name, unsigned long long max_byt
   return data;
 }
 
-Field load_npz(const std::filesystem::path& file, const std::string& member) {
+HeightMap load_npz(const std::filesystem::path& file, const std::string& member) {
   const ZipArchive zip(file);
+  constexpr const char* kSpacing = "spacing.npy";  // metadata, not a height map
+  std::vector<std::string> maps;
+  for (const auto& n : zip.names())
+    if (n != kSpacing) maps.push_back(n);
   std::string entry = member;
   if (entry.empty()) {
-    if (zip.names().size() != 1) {
-      std::string list;
-      for (const auto& n : zip.names()) list += (list.empty() ? "" : ", ") + n;
-      file_error(file, "holds " + std::to_string(zip.names().size()) + " arrays (" + list +
+    if (maps.size() != 1)
+      file_error(file, "holds " + std::to_string(maps.size()) + " arrays (" + name_list(maps) +
                            "): name one with surface.dataset");
-    }
-    entry = zip.names()[0];
+    entry = maps[0];
   } else if (!entry.ends_with(".npy")) {
     entry += ".npy";
   }
   // 2^30 doubles (the largest sane map) plus a header.
-  return parse_npy(file, zip.read(entry, (1ull << 33) + 65536), entry);
+  HeightMap m{parse_npy(file, zip.read(entry, (1ull << 33) + 65536), entry), {}, {}};
+  if (zip.contains(kSpacing))
+    set_spacing(file, parse_npy_values(file, zip.read(kSpacing, 4096), kSpacing), "entry 'spacing'",
+                m);
+  return m;
 }
 
 }  // namespace fretbem::surface_detail

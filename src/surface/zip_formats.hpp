@@ -34,11 +34,15 @@ class ZipArchive {
   std::vector<std::string> names_;
 };
 
+/// "a, b, c" (at most eight names, then "..."): the arrays a file holds, in one line.
+std::string name_list(const std::vector<std::string>& names);
+
 /// ISO 25178-72 x3p (FeatureType SUR): heights (m) with x fastest in the binary data, the
 /// spacing from the CX/CY increments; MD5 of the point data and of main.xml checked.
 HeightMap load_x3p(const std::filesystem::path& file);
 
-/// NumPy .npz: the entry `member` (with or without ".npy"), or the only entry.
-Field load_npz(const std::filesystem::path& file, const std::string& member);
+/// NumPy .npz: the entry `member` (with or without ".npy"), or the only entry besides
+/// `spacing` (the grid spacing in m, read into dx and dy when present).
+HeightMap load_npz(const std::filesystem::path& file, const std::string& member);
 
 }  // namespace fretbem::surface_detail

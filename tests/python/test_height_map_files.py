@@ -136,6 +136,15 @@ with tempfile.TemporaryDirectory() as t:
     np.savez_compressed("two.npz", a=Z, b=2 * Z)
     expect_refused(t, "two.npz", "surface.dataset")
     expect_ok(t, "two.npz", 2 * Z, extra_keys="dataset = b")
+    # A 'spacing' entry is metadata, not a map: checked against grid.length / nx as x3p's is.
+    np.savez("spaced.npz", heights=Z, spacing=np.float64(DX))
+    expect_ok(t, "spaced.npz", Z)
+    np.savez("misspaced.npz", heights=Z, spacing=np.float64(2 * DX))
+    expect_refused(t, "misspaced.npz", "spacing along x")
+    # A .npy carries none: surface.spacing states it, and is checked the same way.
+    np.save("plain.npy", Z)
+    expect_ok(t, "plain.npy", Z, extra_keys=f"spacing = {DX!r}")
+    expect_refused(t, "plain.npy", "surface.spacing", extra_keys=f"spacing = {2 * DX!r}")
     # surface.layout: a non-square map stored x-first is refused loudly under the default yx,
     # and read right with layout = xy (.npy, text and .npz alike).
     np.save("xfirst.npy", Z.T)

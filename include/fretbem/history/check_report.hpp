@@ -1,6 +1,6 @@
 // What `fretbem check` prints about a prepared model (issue 19, "fretbem check"): the moduli,
-// the Hertz scales of a sphere, the full-sliding shift, steps and memory, wear's horizon, and
-// warnings on keys the chosen path or control ignores.
+// the Hertz scales of a sphere, the full-sliding shift, steps and memory, and wear's horizon.
+// Warnings (ignored keys, the input checks' cautions) go to stderr, as `run` prints them.
 #pragma once
 
 #include <string>

@@ -20,19 +20,42 @@ struct ContactScales {
   /// largest indentation, or F / (E* L) (a load F spread over the L x L domain), whichever
   /// applies and is largest; at least the surface's height range.
   double normal_displacement = 0.0;
-  /// Full-sliding shift U* = mu delta E* / G* (m) where delta is known before a solve (Hertz
-  /// approach or the indentation); 0 otherwise.
+  /// Full-sliding shift U* = mu delta E* / G* (m; full_sliding_shift below) with delta the
+  /// approach where it is known before a solve (Hertz approach or the largest indentation),
+  /// else normal_displacement, an upper bound of it (approach_known false).
   double full_sliding_shift = 0.0;
+  bool approach_known = false;
+  /// Radius of the contact the small-slip guard compares shifts with (m): Hertz a of a sphere
+  /// at the largest normal load (sqrt(R delta) under indentation); for other surfaces, whose
+  /// square domain is the nominal contact, half the domain's shorter side.
+  double contact_radius = 0.0;
   double max_normal_force = 0.0;      ///< N, 0 when every step is indentation-controlled
   double max_indentation = 0.0;       ///< m
   double max_tangential_shift = 0.0;  ///< m, displacement-controlled steps
 };
 
+/// Shifts past this many contact radii are refused unless load.allow_large_shift = true: the
+/// model keeps the contact geometry fixed (small slip: the indenter's heights stay over the
+/// same half-space points), and a shift of a whole contact radius moves the contact so far
+/// that its start and end footprints overlap on only 39 % of their area (two circles of
+/// radius a whose centres lie a apart) - sliding, not fretting. Past kWarnShiftOverContactRadius
+/// (overlap 84 %) a warning says so.
+inline constexpr double kMaxShiftOverContactRadius = 1.0, kWarnShiftOverContactRadius = 0.25;
+
+/// U* = mu delta E*/G* (m): the rigid shift at which a contact of approach delta slides as a
+/// whole (Mindlin; the paper's normalisation). One formula for check, run and every refusal.
+double full_sliding_shift(double mu, double approach, double E_star, double G_star);
+
 ContactScales contact_scales(const Scenario& sc, const LoadPath& path, const Field& surface);
+
+/// Throws InputError naming the file (or "surface") when a height reaches past 1e100 m, the
+/// bound of every dimensional input; make_surface calls it for every surface it makes.
+void check_heights(const Scenario& sc, const Field& surface);
 
 /// Throws InputError naming the key or file when the scenario, its path and surface cannot be
 /// run: indentation on a periodic grid, wear without a cyclic path, a table force at or past
-/// mu Fz, and the dimensionless bounds of the arithmetic (preflight.cpp).
+/// mu Fz, a shift past the small-slip bound, and the dimensionless bounds of the arithmetic
+/// (preflight.cpp). Shifts past kWarnShiftOverContactRadius go to input_warning.
 void check_before_solve(const Scenario& sc, const LoadPath& path, const Field& surface);
 
 }  // namespace fretbem

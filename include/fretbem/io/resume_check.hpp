@@ -15,6 +15,11 @@ namespace fretbem {
 /// A fresh run id: 16 hex digits from the clock and a random device.
 std::string new_run_id();
 
+/// Refuses (InputError naming `dir` and the files) when `dir` holds another run's results and
+/// `overwrite` is not given; changes nothing (`fretbem check` asks it as `run` will). Returns
+/// whether `dir` holds such results (to be replaced, `overwrite` given).
+bool check_output_dir(const std::filesystem::path& dir, bool overwrite);
+
 /// Before a fresh run into `dir`: refuses when `dir` holds another run's results
 /// (timeseries.csv, cycles.csv, result.h5 or checkpoint.h5) unless `overwrite`; with it,
 /// sets them aside until the new run has its first checkpoint (replaced_results.hpp).

@@ -41,9 +41,12 @@ struct SurfaceSpec {
   double radius = 0.0;         ///< sphere radius (m)
   RoughSpec rough;             ///< rough surfaces
   std::filesystem::path file;  ///< file surfaces (resolved against the scenario's folder)
-  std::string dataset;         ///< HDF5 dataset name for file surfaces ("" = first 2-D dataset)
+  std::string dataset;         ///< HDF5 dataset or .npz entry of file surfaces ("" = the only one)
   /// Axis order of .npy/.npz/.h5/text height maps (x3p files carry their own).
   HeightLayout layout = HeightLayout::yx;
+  /// surface.spacing: the height map's grid spacing (m), checked against grid.length / n and
+  /// against the spacing the file carries (x3p, .npz entry or HDF5 attribute `spacing`).
+  std::optional<double> spacing;
 };
 
 struct LoadSpec {
@@ -58,6 +61,9 @@ struct LoadSpec {
   int steps_per_cycle = 64;
   int steps = 20;
   std::filesystem::path table;  ///< CSV path table (resolved against the scenario)
+  /// load.allow_large_shift: run displacement amplitudes and table shifts past the small-slip
+  /// bound (kMaxShiftOverContactRadius contact radii, history/preflight.hpp).
+  bool allow_large_shift = false;
 };
 
 struct SolverSpec {
