@@ -862,6 +862,9 @@ TEST_F(Faults, RootAndHomeAreNotOutputFolders) {
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_FALSE(wrote);
   EXPECT_EQ(r.err.rfind("fretbem: error: /: the root folder", 0), 0u) << r.err;
+  const Result c = run("check " + normal_only + " --no-estimate --out /", dir_);  // as run
+  EXPECT_EQ(c.code, 2) << c.err;
+  EXPECT_EQ(c.err, r.err);
   const fs::path home = dir_ / "home";
   fs::create_directories(home);
   const int st = std::system(("HOME=" + home.string() + " " + kBin + " run " + normal_only +

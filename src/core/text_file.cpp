@@ -52,8 +52,6 @@ void write_file_atomically(const fs::path& path, std::string_view text) {
   }
 }
 
-namespace {
-
 // A folder that holds everything else is never one run's results folder: `--out "$OUT/"`
 // with OUT unset names the root, `--out "$HOME/$RUN"` with RUN unset the home folder, and a
 // run there spreads its files among the user's (with --overwrite it sets aside any of theirs
@@ -72,8 +70,6 @@ void refuse_shared_folder(const fs::path& dir) {
                      " cannot be an output folder; name a folder of the run's own (--out, "
                      "output.dir)");
 }
-
-}  // namespace
 
 void create_output_folder(const fs::path& dir) {
   refuse_shared_folder(dir);

@@ -8,6 +8,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/text_file.hpp"
 #include "fretbem/io/replaced_results.hpp"
 #include "fretbem/io/run_files.hpp"
 
@@ -66,6 +67,7 @@ std::string new_run_id() {
 }
 
 bool check_output_dir(const fs::path& dir, bool overwrite) {
+  refuse_shared_folder(dir);
   std::error_code ec;
   std::string found;
   for (const char* f : kRunFiles)

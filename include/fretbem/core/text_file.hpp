@@ -34,4 +34,8 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view t
 /// folder ($HOME), which are never one run's folder.
 void create_output_folder(const std::filesystem::path& dir);
 
+/// Refuses (InputError) the root folder and $HOME itself as output folders: a run there would
+/// spread its files among everything else. create_output_folder and `check` call it.
+void refuse_shared_folder(const std::filesystem::path& dir);
+
 }  // namespace fretbem
