@@ -279,9 +279,9 @@ void Stepper::accumulate_slip(const VecField& u0, const VecField* tau0, const Ei
   state_.classify(bound_, model_.scenario.solver.tolerance, work_.slip, slip_threshold());
   if (moving) {
     const StepStart start{bound_start_, pressure_start_, before, *tau0};
-    step_work(&start, state_, bound_, work_);
+    step_work(&start, state_, bound_, s, work_);
   } else {
-    step_work(nullptr, state_, bound_, work_);
+    step_work(nullptr, state_, bound_, s, work_);
   }
   const auto slip = std::uint8_t(NodeState::slip);
   for (Eigen::Index k = 0; k < n; ++k) {

@@ -25,17 +25,20 @@ struct StepStart {
 };
 
 /// The pressure along the slip and the work of a step that ended in `end` (classified, bound
-/// g1 = `bound`); `out.slip` holds every node's slip length |s| on entry. A slipping node carries
-/// its bound and its traction is parallel to its slip, so its work is the integral of g |ds|; with
-/// the bound and the slip linear in the step:
+/// g1 = `bound`) with slip increments `s` (m, operator components); `out.slip` holds every
+/// node's slip length |s| on entry. A slipping node carries its bound and its traction is
+/// parallel to its slip, so its work is the integral of g |ds|; with the bound and the slip
+/// linear in the step:
 /// - bound fixed (start null), or the node starts to slip in the step: g1 |s|;
 /// - slipping before and after the step's start: trapezoid (g0 + g1)/2 |s|, second order;
-/// - losing contact in the step (g1 = 0 < g0): it slips from where the falling bound meets
-///   its traction tau0 to zero, |tau0|/2 |s| (never negative, whatever direction the node
-///   moves after it opened);
+/// - losing contact in the step (g1 = 0 < g0): its traction relaxes with the bound from tau0
+///   to zero while it slips, doing work on the part of its slip along tau0,
+///   max(tau0 . s, 0) / 2; a slip against tau0 needs the traction reversed first, elastically,
+///   while the bound falls to zero, and counts nothing (the displacement after the node
+///   opened is free motion, not slip);
 /// - otherwise (stick, open, on the bound without slipping): nothing.
 /// The pressure along the slip takes the same weights on p0 and p1.
 void step_work(const StepStart* start, const InterfaceState& end, const Field& bound,
-               StepWork& out);
+               const VecField& s, StepWork& out);
 
 }  // namespace fretbem
