@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -115,6 +116,59 @@ TEST(WearBookkeeping, EnergyVolumeIsAlphaTimesDissipation) {
   for (std::size_t s = 0; s < st.steps(); ++s) st.advance(s);
   ASSERT_GT(st.memory().dissipation, 0.0);
   EXPECT_NEAR(st.memory().wear_volume / (alpha * st.memory().dissipation), 1.0, 1e-9);
+}
+
+// One quadrature of the bound for the dissipation and both wear laws: a slipping node's work is
+// its bound along the slip times |s|, and at a constant mu that bound is mu times the pressure
+// Archard takes, so every step's (and every node's) Archard worn depth is (k / mu) x its
+// dissipation and the energy law's alpha x it, to round-off. Under a normal load that falls
+// and rises within steps (trapezoid of the bound, nodes opening within a step), and in cycle
+// mode, where each cycle's wear moves the bound at its first step: the end-of-step pressure
+// in Archard against the trapezoid in the dissipation put each cycle's worn volume 1.7-2.1e-4
+// below (k / mu) x its energy (fretting_wear.ini, n = 128, k = 2e-12).
+TEST(WearBookkeeping, BothLawsIntegrateTheDissipationsBound) {
+  const std::filesystem::path table =
+      std::filesystem::temp_directory_path() / "fretbem_wear_quadrature.csv";
+  std::ofstream(table) << "time,Fz,Fx\n0,10,0\n1,12,2.5\n2,7,-1.5\n3,11,2\n4,6,-1.2\n5,10,0\n"
+                          "6,12,2.5\n7,7,-1.5\n";
+  for (const char* law : {"archard", "energy"}) {
+    const double c = 2e-13, per_joule = std::string(law) == "archard" ? c / kMu : c;
+    auto m = model_of(
+        "[material]\nE = 210e9\nnu = 0.3\nmu = 0.5\n[grid]\nn = 32\nlength = 2.8e-4\n"
+        "[surface]\ntype = sphere\nradius = 0.01\n[load]\npath = table\ntable = " +
+        table.string() + "\n[solver]\nstiffness = false\ntolerance = 1e-9\n[wear]\nlaw = " + law +
+        "\ncoefficient = 2e-13\ncycles = 1\n");
+    Stepper st(*m);
+    double worst_step = 0.0;
+    for (std::size_t k = 0; k < st.steps(); ++k) {
+      const double v0 = st.memory().wear_volume, d0 = st.memory().dissipation;
+      st.advance(k);
+      const double dv = st.memory().wear_volume - v0, dd = st.memory().dissipation - d0;
+      worst_step = std::max(worst_step, std::abs(dv - per_joule * dd) / (per_joule * dd + 1e-300));
+    }
+    const Field& w = st.state().wear;
+    const double worst_node =
+        (w - per_joule * st.state().dissipation).abs().maxCoeff() / w.abs().maxCoeff();
+    std::printf("[ %s ] worst step %.3g, worst node %.3g (relative)\n", law, worst_step,
+                worst_node);
+    ASSERT_GT(st.memory().dissipation, 0.0);
+    EXPECT_LT(worst_step, 1e-12) << law;
+    EXPECT_LT(worst_node, 1e-12) << law;
+  }
+  std::filesystem::remove(table);
+  // Cycle mode: each cycle's worn volume against its energy.
+  auto m = model_of(partial_slip(32, 2e-12, 20, "cycle"));
+  Stepper st(*m);
+  WearCycles cyc(*m, st);
+  const WearReport rep = integrate_wear(*m, cyc, nullptr);
+  double worst_cycle = 0.0;
+  for (std::size_t i = 1; i < rep.history.size(); ++i) {
+    const double dv = rep.history[i].wear_volume - rep.history[i - 1].wear_volume;
+    const double expected = 2e-12 / kMu * rep.history[i - 1].energy;
+    worst_cycle = std::max(worst_cycle, std::abs(dv / expected - 1.0));
+  }
+  std::printf("[ cycle mode ] worst cycle %.3g (relative)\n", worst_cycle);
+  EXPECT_LT(worst_cycle, 1e-12);
 }
 
 TEST(WearBookkeeping, NoWearLawNoWear) {

@@ -49,7 +49,7 @@ bool Stepper::coupled_step(const LoadStep& ls, StepRecord& rec) {
     hs.tangential_of_pressure(state_.pressure, pressure_slip_[0], pressure_slip_[1]);
   }
   const VecField tau0 = state_.traction, u0 = state_.displacement;
-  const Field bound0 = bound_;
+  const Field bound0 = bound_, pressure0 = state_.pressure;
   VecField w(2), u0w(2);
   Field uz;
   TangentialResult r;
@@ -87,6 +87,7 @@ bool Stepper::coupled_step(const LoadStep& ls, StepRecord& rec) {
   set_target(ls, probe);  // relative force targets follow the converged F_z
   last_target_ = probe.target;
   bound_start_ = bound0;
+  pressure_start_ = pressure0;
   bound_moved_ = bound0.size() == bound_.size() && !(bound0 == bound_).all();
   rec.normal_iterations = normal_iterations;
   rec.tangential_iterations = tangential_iterations;

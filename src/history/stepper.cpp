@@ -129,7 +129,7 @@ void Stepper::solve_normal(const LoadStep& ls, const Field& z, StepRecord& rec) 
   // lie below the original one, so delta is converted to the unworn surface's datum (its
   // growth under constant normal force is the wear's signature).
   const double datum = model_.surface0.maxCoeff() - z.maxCoeff();
-  const Field start = state_.pressure;
+  Field start = state_.pressure;
   NormalResult r;
   try {
     r = ls.normal.force_control ? ns.solve_force(z, ls.normal.value, state_.pressure)
@@ -146,7 +146,8 @@ void Stepper::solve_normal(const LoadStep& ls, const Field& z, StepRecord& rec) 
   surface_changed_ = false;
   state_.normal_force = r.force;
   state_.indentation = r.indentation + datum;
-  bound_start_.swap(bound_);  // the bound at the start of the step (dissipation, below)
+  bound_start_.swap(bound_);  // the bound and pressure at the step's start (step_work)
+  pressure_start_ = std::move(start);
   model_.friction->bound(state_, bound_);
   check_edge_contact(model_.scenario, edge_load_share(state_.pressure),
                      "step " + std::to_string(rec.step));
@@ -257,71 +258,48 @@ void Stepper::shortcut_step(const LoadStep& ls, StepRecord& rec) {
 
 // Slip increment s = dU - (u - u0) per slip node (stick nodes do not slip: what the solver
 // leaves there is its residual); the node states of the step follow from it (issue 17 §2).
-// Coulomb dissipation: a slipping node carries its bound g, so its work over the step is the
-// integral of g |ds|, which tau . s = g1 |s| (end-of-step traction) gives exactly while the bound
-// stays put. The wear law takes the same s.
-// Two fused passes over the grid (the whole-field expressions before made seven temporaries:
-// 17 % of a full-sliding step of rough_monotone.ini, perf). Per node the arithmetic and its
-// order are those of the field expressions, so the fields and sums are the same bits.
+// The work of the step and the wear take one quadrature of the bound along the slip
+// (contact/step_work.hpp): exact, g1 |s|, while the bound stays put; second order when it
+// moves (a varying normal load: the nodal dissipation converges to the F-U loop area at ~4x
+// per halving of the step, test_history_physics).
+// Fused passes over the grid (whole-field expressions made seven temporaries: 17 % of a
+// full-sliding step of rough_monotone.ini, perf).
 void Stepper::accumulate_slip(const VecField& u0, const VecField* tau0, const Eigen::VectorXd& dU,
                               StepRecord&) {
   const int nc = int(state_.traction.size());
   const Eigen::Index n = bound_.size();
   VecField s(nc, Field(bound_.rows(), bound_.cols()));
-  Field step = Field(bound_.rows(), bound_.cols());  // |s| of the step, before the classification
+  work_.slip.resize(bound_.rows(), bound_.cols());  // |s| of the step, before the classification
   for (Eigen::Index k = 0; k < n; ++k) {
     double len2 = 0.0;
     for (int c = 0; c < nc; ++c) {
       const double sc = dU(c) - (state_.displacement[c](k) - u0[c](k));
       s[c](k) = sc, len2 += sc * sc;
     }
-    step(k) = std::sqrt(len2);
+    work_.slip(k) = std::sqrt(len2);
   }
   const bool moving = bound_moved_ && tau0 && bound_start_.size() == bound_.size();
   const StateField before = moving ? state_.state : StateField();
-  state_.classify(bound_, model_.scenario.solver.tolerance, step, slip_threshold());
-  Field work =
-      moving ? moving_bound_work(before, *tau0, s) : Field::Zero(bound_.rows(), bound_.cols());
+  state_.classify(bound_, model_.scenario.solver.tolerance, work_.slip, slip_threshold());
+  if (moving) {
+    const StepStart start{bound_start_, pressure_start_, before, *tau0};
+    step_work(&start, state_, bound_, s, work_);
+  } else {
+    step_work(nullptr, state_, bound_, s, work_);
+  }
   const auto slip = std::uint8_t(NodeState::slip);
   for (Eigen::Index k = 0; k < n; ++k) {
     const double slipping = state_.state(k) == slip ? 1.0 : 0.0;
-    double len2 = 0.0;
-    for (int c = 0; c < nc; ++c) {
-      const double sc = s[c](k) *= slipping;
-      state_.slip[c](k) += sc;
-      if (!moving) work(k) += state_.traction[c](k) * sc;
-      len2 += sc * sc;
-    }
-    state_.slip_path(k) += std::sqrt(len2);
-    state_.dissipation(k) += work(k);
+    for (int c = 0; c < nc; ++c) state_.slip[c](k) += s[c](k) * slipping;
+    state_.slip_path(k) += work_.slip(k) * slipping;
+    state_.dissipation(k) += work_.work(k);
   }
   const double h2 = model_.half_space->grid().cell_area();
-  dissipation_ += work.sum() * h2;
+  dissipation_ += work_.work.sum() * h2;
   if (!model_.wear) return;  // no wear arithmetic without a wear law
-  const Field dh = model_.wear->increment(state_.pressure, state_.traction, s);
+  const Field dh = model_.wear->increment(work_);
   state_.wear += dh;
   wear_volume_ += dh.sum() * h2;
-}
-
-// Work per node over a step in which the bound moved from g0 to g1 (a varying normal load):
-// g1 |s| alone is first order in the step. Coulomb's law at a moving bound, node by node:
-// - slipping before and after the step's start: trapezoid (g0 + g1)/2 |s| = tau . s
-//   (g0 + g1)/(2 g1), second order;
-// - starting to slip within the step: tau . s (it reached its bound during the step);
-// - losing contact within the step: its traction relaxes with the bound to zero, tau0 . s / 2.
-// Over a steady cycle the sum converges at second order to the F-U loop area (test_history_
-// physics: ratio ~4 per halving of the step).
-Field Stepper::moving_bound_work(const StateField& before, const VecField& tau0,
-                                 const VecField& s) const {
-  const auto slip = std::uint8_t(NodeState::slip);
-  Field dot = Field::Zero(bound_.rows(), bound_.cols()), released = dot;
-  for (std::size_t c = 0; c < s.size(); ++c) {
-    dot += state_.traction[c] * s[c];
-    released += 0.5 * tau0[c] * s[c];
-  }
-  const Field trapezoid = (bound_start_ + bound_) / (2.0 * bound_.max(1e-300));
-  const Field factor = (before == slip).select(trapezoid, 1.0);
-  return (state_.state == slip).select(dot * factor, (bound_ == 0.0).select(released, 0.0));
 }
 
 // Slip threshold of the state classification (m): the solver stops when the rms over the N

@@ -7,6 +7,7 @@
 #include <functional>
 #include <vector>
 
+#include "fretbem/contact/step_work.hpp"
 #include "fretbem/history/cycle_predictor.hpp"
 #include "fretbem/history/failed_solve.hpp"
 #include "fretbem/history/model.hpp"
@@ -79,13 +80,14 @@ class Stepper {
   [[noreturn]] void fail(const StepRecord& rec, const SolverError& e, FailedSolve f) const;
   void accumulate_slip(const VecField& u0, const VecField* tau0, const Eigen::VectorXd& dU,
                        StepRecord& rec);
-  Field moving_bound_work(const StateField& before, const VecField& tau0, const VecField& s) const;
   double slip_threshold();
 
   Model& model_;
   InterfaceState state_;
   Field bound_;
-  Field bound_start_;  ///< the bound before this step's normal solve (when it changed)
+  Field bound_start_;     ///< the bound before this step's normal solve (when it changed)
+  Field pressure_start_;  ///< the pressure before it
+  StepWork work_;         ///< the last step's slip, pressure along it and work
   bool bound_moved_ = false;
   Field scale_bound_;            ///< the bound slip_threshold_ belongs to
   double slip_threshold_ = 0.0;  ///< slip of a slipping node in a step at least (m)

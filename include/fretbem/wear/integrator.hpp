@@ -139,8 +139,18 @@ class WearCycles {
   void start();
   /// One cycle continuing the stepper's history (cycle mode); the surface is not touched.
   WearCycle carried(double N);
-  /// The steady cycle of surface z0 - worn, from a fresh traction state (ODE right-hand side).
+  /// The steady cycle of surface z0 - worn, from a fresh traction state (ODE right-hand side):
+  /// the virgin loading to the first turning point, then loops back to it until the loop
+  /// repeats (one pass where Masing's rule closes it), the last one measured. Throws
+  /// InputError when it does not repeat within kMaxSettleLoops.
   WearCycle steady(double N, const Field& worn);
+  /// Loops of the steady cycle run at most to find it periodic.
+  static constexpr int kMaxSettleLoops = 16;
+  /// Two loops count as the same when their worn depths differ by at most the larger of
+  /// kSettleShare x wear.rtol and kSettleNoise x solver.tolerance (the loops' own solver
+  /// noise) of the largest, relative: the wear map is then within a tenth of the ODE's
+  /// tolerance of the periodic one.
+  static constexpr double kSettleShare = 0.1, kSettleNoise = 100.0;
   /// The next steady loop continuing the stepper's history after a steady() or continued()
   /// whose wear was apply()'d: one cycle of the physical history (stretches of cycles in the
   /// ODE modes).
@@ -164,6 +174,8 @@ class WearCycles {
 
  private:
   void fresh(const Field& worn);
+  int settle();
+  Field loop_wear();
   StepRecord step(const LoadStep& ls, double time, bool emit);
   WearCycle measure(double N, const std::vector<LoadStep>& steps, double t_shift);
 
@@ -173,6 +185,7 @@ class WearCycles {
   LoadStep initial_;
   std::vector<LoadStep> cycle_, virgin_, steady_;  // one period; to 1st turning; turning->turning
   double turn_ = 0.0;                              // time of the first turning point
+  bool settles_ = false;  // the steady loop is run until it repeats (not closed at once)
   double simulated_ = 0.0;
   int evaluations_ = 0, row_ = 0, index_ = 0;
 };

@@ -5,41 +5,42 @@
 
 #include <memory>
 
+#include "fretbem/contact/step_work.hpp"
 #include "fretbem/scenario/scenario.hpp"
-#include "fretbem/contact/tangential_operator.hpp"
 
 namespace fretbem {
 
 class WearModel {
  public:
   virtual ~WearModel() = default;
-  /// Worn-depth increment dh (m) per node for one step. p: pressure (Pa); tau: end-of-step
-  /// traction (Pa); s: slip increment of the step (m), zero off slip nodes. tau and s are in the
-  /// same (operator) components; only rotation invariants |s| and tau . s are used.
-  virtual Field increment(const Field& p, const VecField& tau, const VecField& s) const = 0;
+  /// Worn-depth increment dh (m) per node for one step, from its slip length, the pressure
+  /// along the slip and the frictional work, all by the one quadrature of the bound that the
+  /// dissipation takes (contact/step_work.hpp).
+  virtual Field increment(const StepWork& step) const = 0;
   /// An Archard coefficient k_eq with dh <= k_eq p |s| for this law (Coulomb friction with
   /// coefficient mu): what the explicit integrator's stability bound needs.
   virtual double archard_equivalent(double mu) const = 0;
 };
 
-/// Local Archard law dh = k p |s| (Archard 1953, applied pointwise: e.g. Põdra & Andersson,
-/// Wear 207, 1997).
+/// Local Archard law dh = k p |s|, p the pressure along the slip (Archard 1953, applied pointwise:
+/// e.g. Põdra & Andersson, Wear 207, 1997).
 class ArchardWear final : public WearModel {
  public:
   explicit ArchardWear(double k) : k_(k) {}
-  Field increment(const Field& p, const VecField& tau, const VecField& s) const override;
+  Field increment(const StepWork& step) const override;
   double archard_equivalent(double) const override { return k_; }
 
  private:
   double k_;
 };
 
-/// Dissipated-energy law dh = alpha |tau . s| (Fouvry et al., Wear 255, 2003).
+/// Dissipated-energy law dh = alpha x the frictional work of the step (Fouvry et al., Wear
+/// 255, 2003).
 class EnergyWear final : public WearModel {
  public:
   explicit EnergyWear(double alpha) : alpha_(alpha) {}
-  Field increment(const Field& p, const VecField& tau, const VecField& s) const override;
-  /// |tau . s| <= mu p |s| at a Coulomb slip node.
+  Field increment(const StepWork& step) const override;
+  /// The work at a Coulomb slip node is its bound along the slip times |s|, mu p |s|.
   double archard_equivalent(double mu) const override { return alpha_ * mu; }
 
  private:

@@ -1,0 +1,44 @@
+// StepWork: the frictional work of one load step per node and the quadrature of the Coulomb
+// bound along the step's slip that gives it. The dissipation and both wear laws (wear/law.hpp)
+// take this one quadrature, so that with a constant mu Archard's worn depth is (k / mu) x the
+// work and the energy law's alpha x the work, to round-off.
+#pragma once
+
+#include "fretbem/contact/interface_state.hpp"
+
+namespace fretbem {
+
+/// One step's slip and the bound along it, per node.
+struct StepWork {
+  Field slip;      ///< slip length |s| of the step (m)
+  Field pressure;  ///< the pressure along the slip, by the bound's quadrature (Pa)
+  Field work;      ///< frictional work: the bound along the slip times |s| (J/m^2), >= 0
+};
+
+/// The start of a step whose bound moved (a normal re-solve): the bound and pressure before
+/// it, and the node states and tractions the previous step ended with.
+struct StepStart {
+  const Field& bound;        ///< g0 (Pa)
+  const Field& pressure;     ///< p0 (Pa)
+  const StateField& state;   ///< states of the previous step
+  const VecField& traction;  ///< tau0 (Pa), operator components
+};
+
+/// The pressure along the slip and the work of a step that ended in `end` (classified, bound
+/// g1 = `bound`) with slip increments `s` (m, operator components); `out.slip` holds every
+/// node's slip length |s| on entry. A slipping node carries its bound and its traction is
+/// parallel to its slip, so its work is the integral of g |ds|; with the bound and the slip
+/// linear in the step:
+/// - bound fixed (start null), or the node starts to slip in the step: g1 |s|;
+/// - slipping before and after the step's start: trapezoid (g0 + g1)/2 |s|, second order;
+/// - losing contact in the step (g1 = 0 < g0): its traction relaxes with the bound from tau0
+///   to zero while it slips, doing work on the part of its slip along tau0,
+///   max(tau0 . s, 0) / 2; a slip against tau0 needs the traction reversed first, elastically,
+///   while the bound falls to zero, and counts nothing (the displacement after the node
+///   opened is free motion, not slip);
+/// - otherwise (stick, open, on the bound without slipping): nothing.
+/// The pressure along the slip takes the same weights on p0 and p1.
+void step_work(const StepStart* start, const InterfaceState& end, const Field& bound,
+               const VecField& s, StepWork& out);
+
+}  // namespace fretbem
