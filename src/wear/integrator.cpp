@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/fingerprint.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/wear/cost_estimate.hpp"
 #include "fretbem/wear/preconditioner.hpp"
@@ -156,15 +157,13 @@ struct OdeData {
   long base_generation = 0, linearised_generation = -1;
 };
 
-// FNV-1a over the bytes of W: identifies the evaluations made on an accepted state without
-// keeping a copy of W per evaluation (a collision needs two different worn-depth fields
-// with the same 64-bit hash).
+// The fingerprint of W identifies the evaluations made on an accepted state without keeping a
+// copy of W per evaluation (a collision needs two different worn-depth fields with the same
+// 64-bit value).
 std::uint64_t fingerprint(const Eigen::Ref<const Field>& W) {
-  std::uint64_t h = 1469598103934665603ull;
-  const auto* b = reinterpret_cast<const unsigned char*>(W.data());
-  for (std::size_t i = 0; i < std::size_t(W.size()) * sizeof(double); ++i)
-    h = (h ^ b[i]) * 1099511628211ull;
-  return h;
+  Fingerprint f;
+  f.add_bytes(W.data(), std::size_t(W.size()) * sizeof(double));
+  return f.value();
 }
 
 // dW/dN = w(z0 - W): one steady cycle on the current surface per evaluation. Exceptions
