@@ -167,8 +167,8 @@ void refuse_duplicates(const SweepSpec& s) {
   }
 }
 
-// Counted before the product is built: two ranges of 10^6 values asked for 10^12 members, and
-// the study grew past 400 MB in two minutes before anything ran (issue 14, session 6).
+// Counted before the product is built: two ranges of 10^6 values ask for 10^12 members, and
+// building them takes past 400 MB in two minutes before anything runs (measured).
 void refuse_too_many_members(const SweepSpec& s) {
   double count = s.zip ? double(s.axes.front().values.size()) : 1.0;
   std::string sizes;

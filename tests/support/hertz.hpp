@@ -1,5 +1,5 @@
 // Hertz-sphere scenarios the tests share, and the helpers that run them: the unit sphere of
-// the closed-form checks, issue 14's 32 x 32 steel ball, a step recorder and the energy of one
+// the closed-form checks, a 32 x 32 steel ball, a step recorder and the energy of one
 // load cycle. Header-only: each test executable includes it once.
 #pragma once
 
