@@ -1,6 +1,6 @@
-// Greenwood–Williamson partial slip (DESIGN §3 rung 6): the paper's closed forms (eqs. 11, 13–15,
-// 27, 28; stiffness eq. 26) against the direct sum of Hertz–Mindlin asperities over an
-// exponential height density, plus limits and the force split.
+// Greenwood–Williamson partial slip (docs/architecture.md, validation ladder): the paper's closed
+// forms (eqs. 11, 13–15, 27, 28; stiffness eq. 26) against the direct sum of Hertz–Mindlin
+// asperities over an exponential height density, plus limits and the force split.
 #include <gtest/gtest.h>
 
 #include <cmath>

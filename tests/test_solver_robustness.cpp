@@ -1,4 +1,4 @@
-// Solvers that cannot stall (issues 12 and 18; ctest label `stress`): the states that stalled
+// Solvers that cannot stall (ctest label `stress`): the states that can stall
 // them — a worn conforming annulus, a force reversal near sliding, gross slip under
 // displacement control — and the failure contract (step, cycle and failed_solve.h5 named).
 // Reference solutions come from an independent route: the constructed exact pressure, the

@@ -1,4 +1,4 @@
-// fretbem sweep (issue 15): study files, member lists, the serial runner, --list/--member/
+// fretbem sweep: study files, member lists, the serial runner, --list/--member/
 // --aggregate, failed members, restart after SIGTERM, and the cluster-node defaults.
 #include <gtest/gtest.h>
 #include <signal.h>
