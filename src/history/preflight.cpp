@@ -39,8 +39,8 @@ void check_wear_path(const Scenario& sc) {
         "period)");
 }
 
-// Table forces are in N; force control cannot go past full sliding (the solver refuses it at
-// the step, exit 3, after the earlier steps ran). Known before any solve when Fz is given.
+// Table forces are in N; force control cannot go past full sliding (the solver would refuse it
+// at the step, exit 3, after the earlier steps ran). Known before any solve when Fz is given.
 void check_table_friction(const Scenario& sc, const LoadPath& path) {
   if (sc.load.path != PathType::table) return;
   const double mu = sc.material.mu;

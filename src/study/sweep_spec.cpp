@@ -65,7 +65,7 @@ std::vector<std::string> range_values(const std::string& key, const std::string&
   std::vector<std::string> out;
   for (int i = 0; i < count; ++i) {
     const double t = count == 1 ? 0.0 : double(i) / (count - 1);
-    // Linear: the weighted mean of the ends, exact for whole numbers (a + t (b - a) gave
+    // Linear: the weighted mean of the ends, exact for whole numbers (a + t (b - a) gives
     // surface.seed = 7.000000000000001 in linear(1, 10000, 10000)).
     double v = log          ? std::exp(std::log(a) + t * (std::log(b) - std::log(a)))
                : count == 1 ? a
