@@ -215,7 +215,7 @@ void bind_model(py::module_& m) {
 void bind_stepper(py::module_& m) {
   py::class_<PyStepper>(m, "Stepper", "Walks the load path one step at a time.")
       .def(py::init([](std::shared_ptr<PyModel> pm) {
-             // pybind11 passes None as an empty holder: Stepper(None) was a SIGSEGV.
+             // pybind11 passes None as an empty holder: unchecked, Stepper(None) is a SIGSEGV.
              if (!pm)
                throw py::type_error("Stepper(model): model must be a fretbem.Model, not None");
              PyStepper s;
@@ -315,7 +315,7 @@ void bind_closed_forms(py::module_& m) {
 }
 
 // InputError and SolverError as Python exceptions whose message survives bytes that are not
-// UTF-8 (a scenario of binary garbage quotes its line: the message was empty before).
+// UTF-8 (a scenario of binary garbage quotes its line, and its message must not be empty).
 void register_errors(py::module_& m) {
   static py::exception<InputError> input(m, "InputError", PyExc_ValueError);
   static py::exception<SolverError> solver(m, "SolverError", PyExc_RuntimeError);

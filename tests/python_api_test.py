@@ -188,9 +188,10 @@ class Api(unittest.TestCase):
                 self.assertEqual(rb[key], r[key], key)
 
     def test_hostile_arguments_raise_and_never_crash(self):
-        """Issue 14, session 6 (tools/bench/hostile_hunt.py): Stepper(None) was a SIGSEGV of the
-        interpreter; a surface of 1e200 m and NaN written into the surface view ended in
-        "residual -nan"; GW stiffness past full sliding was NaN; Contact(radius=-1) complex."""
+        """Arguments found by tools/bench/hostile_hunt.py must raise, never crash or give NaN:
+        Stepper(None) (a SIGSEGV of the interpreter unchecked), a surface of 1e200 m and NaN
+        written into the surface view ("residual -nan"), GW stiffness past full sliding (NaN),
+        Contact(radius=-1) (complex)."""
         sc = fretbem.Scenario.from_file(SCENARIO, SMALL)
         with self.assertRaises(TypeError):
             fretbem.Stepper(None)

@@ -1,4 +1,5 @@
-// The command line contract (DESIGN §4): exit codes, one-line errors, outputs and columns.
+// The command line contract (README "Command line"): exit codes, one-line errors, outputs and
+// columns.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -75,7 +76,7 @@ TEST(Cli, CheckValidatesWithoutRunning) {
 }
 
 // Cycle counts print as integers (core/format format_count): wear.cycles = 10000 is "10000",
-// not "1e+04" as check printed it (shortest round-trip and %.4g) before session 5.
+// not "1e+04" (what shortest round-trip or %.4g would print).
 TEST(Cli, CheckPrintsWearCyclesAsIntegers) {
   for (const std::string n : {"10000", "1000000", "4000"}) {
     const Result r = fretbem("check " + scenario("fretting_wear.ini") +
@@ -139,7 +140,7 @@ TEST(Cli, SurfaceWarnsWhenTheHurstFitRestsOnTooFewWavelengths) {
   fs::remove(out);
 }
 
-// --quiet silences the progress report, not the results (issue 19); steps are counted as
+// --quiet silences the progress report, not the results; steps are counted as
 // `check` counts them, row 0 (the normal loading) included.
 TEST(Cli, QuietKeepsTheSummaryAndStopsCountRows) {
   const fs::path dir =

@@ -1,4 +1,4 @@
-// `fretbem check`'s cost estimate (issue 19) against the runs it predicts, on small grids:
+// `fretbem check`'s cost estimate against the runs it predicts, on small grids:
 // FFT convolutions of stepped runs and simulated cycles of wear runs, which are counts and do
 // not depend on the machine's load. The CPU-second figures and larger grids are measured by
 // tools/bench/cost_estimate_accuracy.py (docs/reliability.md).

@@ -1,6 +1,6 @@
 // The one CSV reader (core/csv_reader): comments and blank lines anywhere, exact numbers,
-// FILE:LINE in every message; and the load table with a leading comment that `check` passed
-// and `run` refused before there was one reader (issue 11).
+// FILE:LINE in every message; and a load table with a leading comment, which `check` and `run`
+// must both accept.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>

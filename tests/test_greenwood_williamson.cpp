@@ -1,6 +1,6 @@
-// Greenwood–Williamson partial slip (DESIGN §3 rung 6): the paper's closed forms (eqs. 11, 13–15,
-// 27, 28; stiffness eq. 26) against the direct sum of Hertz–Mindlin asperities over an
-// exponential height density, plus limits and the force split.
+// Greenwood–Williamson partial slip (docs/architecture.md, validation ladder): the paper's closed
+// forms (eqs. 11, 13–15, 27, 28; stiffness eq. 26) against the direct sum of Hertz–Mindlin
+// asperities over an exponential height density, plus limits and the force split.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -32,7 +32,7 @@ double b_of(const gw::Params& p, double ux) {
 }
 
 // The quadrature (composite 16-point Gauss–Legendre on smooth integrands after the square-root
-// substitutions) is accurate to ~1e-13; the issue asks for 1e-3. We check 1e-9: far inside the
+// substitutions) is accurate to ~1e-13; the requirement is 1e-3. We check 1e-9: far inside the
 // requirement, far above round-off, so a wrong law (not a slightly inaccurate rule) fails.
 constexpr double kTol = 1e-9;
 

@@ -1,4 +1,4 @@
-// The paper's rough-surface results (Paggi, Pohrt & Popov, Sci. Rep. 2014; DESIGN §3 rung 7) as
+// The paper's rough-surface results (Paggi, Pohrt & Popov, Sci. Rep. 2014; validation ladder) as
 // regression tests on a small ensemble: rough_monotone.ini at n = 128, H = 0.3 and 0.7, seeds
 // 1..3, run through the CLI (`fretbem ensemble`). Expected values are the paper's closed forms
 // (eqs. 15, 25, 26) and its qualitative statements, never this code's earlier output.
@@ -71,7 +71,7 @@ TEST_F(Paper, EnsembleRunsEveryMember) {
   EXPECT_NE(agg.find("\n0.7,10,0.5,0.55,0.525,3,0,"), std::string::npos);
 }
 
-// Paper eq. 15 / Fig. 2: A_stick/A0 = 1 - F_x/(mu F_z) for all H. Tolerance 0.05 (issue 5):
+// Paper eq. 15 / Fig. 2: A_stick/A0 = 1 - F_x/(mu F_z) for all H. Tolerance 0.05:
 // eq. 15 is exact only where the contact area is proportional to the load (eq. 20, Archard's
 // law eq. 1); for a fractal surface at ~5 % contact A(F) is slightly sub-linear, and at
 // n = 128 a stick spot is a few cells. The paper's Fig. 2 shows deviations of a few per cent.

@@ -1,5 +1,5 @@
 // The progress report: in place ('\r') only on a terminal; plain lines in a file or a batch
-// log (issue 11: a run with stderr in a file wrote dozens of '\r' updates onto one line).
+// log (a run with stderr in a file must not write dozens of '\r' updates onto one line).
 #include <gtest/gtest.h>
 
 #include <algorithm>

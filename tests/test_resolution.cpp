@@ -1,4 +1,4 @@
-// Resolution and domain reports (issues 17 §3, 18): the slip-ring measure against an annulus,
+// Resolution and domain reports: the slip-ring measure against an annulus,
 // the edge load share, Hertz predictions of `fretbem check`, warnings and refusals of a run.
 #include <gtest/gtest.h>
 #include <sys/wait.h>

@@ -220,7 +220,7 @@ TEST(Scenario, UnknownNamesSuggestTheNearest) {
   EXPECT_HAS(error_of(kGood + "[grid]\nmu = 0.3\n"), "(did you mean 'material.mu'?)");
   EXPECT_HAS(with("load.normal force=3"), "did you mean 'load.normal_force'");
   EXPECT_HAS(with("material.e=3"), "did you mean 'material.E'");
-  EXPECT_HAS(with("material.NU=0.3"), "did you mean 'material.nu'");  // issue 14, item 12
+  EXPECT_HAS(with("material.NU=0.3"), "did you mean 'material.nu'");
   EXPECT_HAS(with("output.fields=pressure,tracton_x"), "did you mean 'traction_x'");
   const std::string far = with("solver.zzzzzzzzzzzz=1");
   EXPECT_HAS(far, "unknown key 'solver.zzzzzzzzzzzz'");
@@ -233,7 +233,7 @@ TEST(Scenario, ByteOrderMarkIsSkipped) {
   EXPECT_EQ(s.material.body1.E, parse(kGood).material.body1.E);
 }
 
-// Dimensional inputs outside 1e-100..1e100 name the key (issue 14, items 5 and 12).
+// Dimensional inputs outside 1e-100..1e100 name the key (value_reader.hpp).
 TEST(Scenario, MagnitudesTheArithmeticCannotCarryNameTheKey) {
   for (const char* kv : {"material.E=1e-300", "material.E=1e308", "grid.length=1e200",
                          "surface.radius=1e-300", "load.normal_force=1e101"}) {

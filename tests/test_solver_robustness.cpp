@@ -1,4 +1,4 @@
-// Solvers that cannot stall (issues 12 and 18; ctest label `stress`): the states that stalled
+// Solvers that cannot stall (ctest label `stress`): the states that can stall
 // them — a worn conforming annulus, a force reversal near sliding, gross slip under
 // displacement control — and the failure contract (step, cycle and failed_solve.h5 named).
 // Reference solutions come from an independent route: the constructed exact pressure, the
@@ -28,7 +28,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Issue 12's sphere: E = 200 GPa, nu = 0.3, R = 10 mm, L = 1 mm, F_z = 457.875 N (contact
+// A worn sphere: E = 200 GPa, nu = 0.3, R = 10 mm, L = 1 mm, F_z = 457.875 N (contact
 // radius a quarter of the domain), n = 64.
 struct WornSphere {
   Grid grid = Grid::square(64, 1e-3);
@@ -131,9 +131,9 @@ int fallbacks(const Model& m) {
   return dynamic_cast<const FallbackTangentialSolver&>(*m.tangential).fallbacks();
 }
 
-// Issue 18's steel ball in gross slip under displacement control (1.7x the full-sliding
-// shift, 64 steps per cycle, n = 128): failed at step 17 (first reversal). Every step now
-// converges with the projected method alone (no fallback), the force saturates at mu F_z.
+// A steel ball in gross slip under displacement control (1.7x the full-sliding shift, 64
+// steps per cycle, n = 128): every step, the first reversal (step 17) included, must converge with
+// the projected method alone (no fallback), the force saturating at mu F_z.
 TEST(SolverRobustness, GrossSlipUnderDisplacementControl) {
   auto m = build_model(scenario(R"([material]
 E = 210e9
@@ -254,12 +254,11 @@ stiffness = false
 
 }  // namespace
 
-// Issue 18, robustness case 77 (rough surface, elastic indenter, Cerruti, force-controlled
+// Robustness case 77 (rough surface, elastic indenter, Cerruti, force-controlled
 // table with an oscillating normal force): at the load peak only 22 of 111 contact nodes
-// stick, and the projected method diverged (the force correction after each slip-node step
-// fed back on the slip ring: residual +10 % per iteration) until the force-control fallback
-// took over (222 iterations at row 7). The slip-node step now carries its own force
-// correction; every row converges with the projected method alone, at the asked force.
+// stick, and a force correction applied after each slip-node step feeds back on the slip ring
+// (residual +10 % per iteration). The slip-node step carries its own force correction, so
+// every row must converge with the projected method alone, at the asked force.
 TEST(SolverRobustness, FewStickNodesUnderForceControlWithCerruti) {
   const fs::path dir = fs::temp_directory_path() / "fretbem_case77";
   fs::create_directories(dir);

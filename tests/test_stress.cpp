@@ -1,4 +1,4 @@
-// Numerical stress tests (issue 7, "Stress tests"; ctest label `stress`). Quick versions of
+// Numerical stress tests (ctest label `stress`). Quick versions of
 // every case run here; the large ones (H = 0.1 at n = 512) are in tools/bench/stress.sh.
 // Every case must converge or throw SolverError, keep |tau| <= mu p, and never produce NaN.
 // Outcomes are documented in docs/stability.md.

@@ -1,4 +1,4 @@
-// fretbem sweep (issue 15): study files, member lists, the serial runner, --list/--member/
+// fretbem sweep: study files, member lists, the serial runner, --list/--member/
 // --aggregate, failed members, restart after SIGTERM, and the cluster-node defaults.
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -50,7 +50,7 @@ TEST(SweepValues, ListsAndRanges) {
   EXPECT_EQ(v.back(), "100");
   for (int i = 0; i < 5; ++i)
     EXPECT_NEAR(std::stod(v[i]), std::pow(10.0, i - 2), 1e-14 * std::pow(10.0, i - 2));
-  // Whole-numbered ranges stay whole (a + t (b - a) once gave seed 7.000000000000001).
+  // Whole-numbered ranges stay whole (a + t (b - a) gives seed 7.000000000000001).
   const auto seeds = parse_sweep_values("surface.seed", "linear(1, 10000, 10000)");
   for (int i = 0; i < 10000; ++i) ASSERT_EQ(seeds[i], std::to_string(i + 1));
   for (const char* bad : {"linear(1, 3)", "log(0, 1, 3)", "linear(1, 2, 2.5)", "linear(a, 2, 3)",

@@ -1,4 +1,4 @@
-// fretbem sweep under mpirun (issue 15; built only with FRETBEM_MPI): two ranks give the same
+// fretbem sweep under mpirun (built only with FRETBEM_MPI): two ranks give the same
 // sweep.csv, member by member to the last printed digit, as the serial run.
 #include <gtest/gtest.h>
 

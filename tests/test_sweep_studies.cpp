@@ -1,4 +1,4 @@
-// The shipped energy-per-cycle study's physics (issue 15): a small sweep of the Hertz sphere of
+// The shipped energy-per-cycle study's physics: a small sweep of the Hertz sphere of
 // mindlin_cycle.ini below full sliding (force control) against Mindlin–Deresiewicz, and past
 // it (displacement control) against the gross-slip line 4 mu P (D - 4u*/5); the per-member
 // grid choice (study.max_grid_n) and its columns in sweep.csv.

@@ -16,7 +16,7 @@ class Contact:
     second None for a rigid indenter."""
 
     def __init__(self, body1, body2=None, mu=0.3, radius=None, normal_force=None):
-        # Checked: a negative radius gave complex energies and 0 a ZeroDivisionError.
+        # Unchecked, a negative radius gives complex energies and 0 a ZeroDivisionError.
         _positive("mu", mu)
         if radius is not None:
             _positive("radius", radius)

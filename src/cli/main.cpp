@@ -1,4 +1,4 @@
-// fretbem command line: run | check | surface (DESIGN §4 "CLI").
+// fretbem command line: run | check | surface (README "Command line").
 #include <algorithm>
 #include <boost/program_options.hpp>
 #include <cstdio>
@@ -89,8 +89,8 @@ struct Args {
   long member = -1;                      // sweep
 };
 
-// Options of one command given to another were ignored without a word (`fretbem sweep S
-// --seeds 5`, `fretbem run S --jobs 4`; issue 14, session 6). `check` takes `run`'s options
+// Options of one command given to another must not be ignored without a word (`fretbem sweep
+// S --seeds 5`, `fretbem run S --jobs 4`). `check` takes `run`'s options
 // too, so that a run's command line can be checked as it is.
 void refuse_foreign_options(const std::string& command, const po::variables_map& vm) {
   static const std::map<std::string, std::set<std::string>> kOptions{
@@ -293,7 +293,7 @@ int resume_run(const Args& a) {
   }
   if (cp.wear)
     throw InputError((dir / "checkpoint.h5").string() + ": a wear run's, but no wear.law");
-  // Never written in place: a kill may have torn it (result_recovery.hpp, issue 14).
+  // Never written in place: a kill may have torn it (result_recovery.hpp).
   const auto done = std::int64_t(cp.memory.next_step);
   check_finished_rows(dir / "timeseries.csv", cp.memory.next_step);
   warn_if_any(prepare_result_for_resume(dir, *model, cp.run_id,
@@ -351,7 +351,7 @@ int cmd_check(const Args& a) {
     std::printf("%s: ok (%d x %d grid, wear run of %s cycles)\n", a.scenario.c_str(), sc.grid.nx,
                 sc.grid.ny, format_count(sc.wear.cycles).c_str());
   std::fputs(check_report(*model).c_str(), stdout);
-  // Resolution and domain predicted from Hertz for spheres (issues 17 §3, 18).
+  // Resolution and domain predicted from Hertz for spheres (resolution.hpp).
   if (const auto p = predict_sphere(sc, model->path))
     for (const auto& line : describe(*p, sc)) std::printf("  %s\n", line.c_str());
   if (!a.estimate) return 0;
@@ -435,7 +435,7 @@ int cmd_sweep(const Args& a) {
 }
 
 // "filesystem error: cannot rename: Is a directory [a] [b]" as "cannot rename a to b: Is a
-// directory" (issue 14 item 12: the library's text named neither file plainly).
+// directory": the library's text names neither file plainly.
 std::string describe(const std::filesystem::filesystem_error& e) {
   std::string op = e.what();
   const std::string prefix = "filesystem error: ";
@@ -466,7 +466,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "fretbem: error: %s\n", e.what());
     return 2;
   } catch (const IncrementFailure& e) {
-    // The inputs of the failed solve, so that it can be reproduced alone (issue 12).
+    // The inputs of the failed solve, so that it can be reproduced alone.
     std::string where;
     try {
       where = "; its inputs are in " + write_failed_solve(e.dir, e.inputs).string();

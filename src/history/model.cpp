@@ -207,7 +207,7 @@ std::unique_ptr<Model> build_model(const Scenario& sc) {
     m->tangential_operator = std::make_unique<TangentialOperator>(*m->half_space);
   TangentialOptions topt{sc.solver.tolerance, sc.solver.max_iterations};
   topt.precondition = sc.solver.precondition;
-  // The chosen algorithm, with the other one and sub-steps as fallbacks (issues 12, 18).
+  // The chosen algorithm, with the other one and sub-steps as fallbacks (docs/stability.md).
   std::unique_ptr<TangentialSolver> projected =
       std::make_unique<ProjectedCgSolver>(*m->tangential_operator, topt);
   std::unique_ptr<TangentialSolver> partition =

@@ -17,9 +17,8 @@ namespace {
 // Past this many full-sliding shifts U* a displacement-controlled loop is gross sliding through
 // and through: the contact's elastic displacement (at most about U*) is then below 1e-6 of the
 // imposed shift, which keeps it two decades above the default relative tolerance (1e-8) of the
-// tangential residual; much further and the solve no longer resolves it. Measured before this
-// bound (issue 14, item 5): 1e150 m gave "residual -nan", 1e160-1e300 m exit 0 with Fx = Ux = 0
-// on every row.
+// tangential residual; much further and the solve no longer resolves it. Measured without this
+// bound: 1e150 m gives "residual -nan", 1e160-1e300 m exit 0 with Fx = Ux = 0 on every row.
 constexpr double kMaxShiftOverFullSliding = 1e6;
 
 void check_periodic_indentation(const Scenario& sc, const LoadPath& path) {
@@ -40,8 +39,8 @@ void check_wear_path(const Scenario& sc) {
         "period)");
 }
 
-// Table forces are in N; force control cannot go past full sliding (the solver refuses it at
-// the step, exit 3, after the earlier steps ran). Known before any solve when Fz is given.
+// Table forces are in N; force control cannot go past full sliding (the solver would refuse it
+// at the step, exit 3, after the earlier steps ran). Known before any solve when Fz is given.
 void check_table_friction(const Scenario& sc, const LoadPath& path) {
   if (sc.load.path != PathType::table) return;
   const double mu = sc.material.mu;
@@ -63,8 +62,8 @@ void check_table_friction(const Scenario& sc, const LoadPath& path) {
 // whole L x L domain by more than 1 (F / (E* L^2) >= 1), or an indentation deeper than the
 // domain is wide, cannot be a small-strain contact. These also keep the pressures and
 // displacements the solver forms within the range its arithmetic carries.
-// The key or table column a normal load came from: a table's Fz was reported as
-// load.normal_force, which the scenario did not set (issue 14, session 6).
+// The key or table column a normal load came from: a table's Fz must not be reported as
+// load.normal_force, which the scenario did not set.
 std::string normal_load_source(const Scenario& sc, bool force) {
   const bool from_table = force ? !sc.load.normal_force : !sc.load.indentation;
   if (from_table && sc.load.path == PathType::table)

@@ -107,7 +107,8 @@ void write_solver(IniWriter& w, const SolverSpec& s) {
   w.put("max_iterations", s.max_iterations);
   static const char* const couplings[] = {"analogy", "cerruti", "coupled"};
   w.put("coupling", std::string(couplings[int(s.coupling)]));
-  // Only coupled runs name these: resolved texts (and checkpoints) of other runs stay as before.
+  // Only coupled runs name these: resolved texts (and checkpoints) of other runs carry no keys
+  // they do not use.
   if (s.coupling == Coupling::coupled) {
     w.put("coupling_tolerance", s.coupling_tolerance);
     w.put("coupling_iterations", s.coupling_iterations);
@@ -123,8 +124,8 @@ void write_solver(IniWriter& w, const SolverSpec& s) {
   w.put("fft_precision",
         std::string(s.fft_precision == FftPrecision::float32 ? "float" : "double"));
   w.put("monotone", std::string(s.shortcut ? "shortcut" : "incremental"));
-  // Written only when not the default (auto): resolved scenarios of default runs stay as they
-  // were (and a checkpoint of an older run without the key resumes with auto).
+  // Written only when not the default (auto): resolved scenarios of default runs carry no
+  // predictor key (and a checkpoint written without the key resumes with auto).
   if (s.predictor != PredictorMode::automatic)
     w.put("predictor", std::string(s.predictor == PredictorMode::cycle ? "cycle" : "none"));
   w.put("precondition", std::string(s.precondition == Precondition::automatic ? "automatic"

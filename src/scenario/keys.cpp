@@ -1,4 +1,4 @@
-// The key table and the nearest-name suggestions (DESIGN §4 "Scenario files").
+// The key table and the nearest-name suggestions (README "Scenario files").
 #include "keys.hpp"
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Scenario reading and validation (DESIGN §4 "Scenario files").
+// Scenario reading and validation (README "Scenario files").
 //
 // Boost.Program_options only tokenises the INI text (every key registered as a string, unknown
 // ones kept); every value is then converted and checked here, so that all messages share one

@@ -82,7 +82,7 @@ void read_grid(const Reader& r, Grid& g) {
   const long long nx = r.has("grid.nx") ? r.integer("grid.nx", 2, kMaxSide) : n;
   const long long ny = r.has("grid.ny") ? r.integer("grid.ny", 2, kMaxSide) : n;
   // grid.nx and grid.ny together define the grid (an override of a file's grid.n); one of them
-  // beside a different grid.n is ambiguous (issue 14 item 13: n = 32, nx = 16 ran 16 x 32).
+  // beside a different grid.n is ambiguous (n = 32, nx = 16: 16 x 32 or 16 x 16?).
   if (r.has("grid.n") && !both)
     for (const auto& [key, side] : {std::pair{"grid.nx", nx}, std::pair{"grid.ny", ny}})
       if (r.has(key) && side != n)
@@ -336,8 +336,8 @@ void read_wear(const Reader& r, WearSpec& w) {
   if (r.has("wear.integrator"))
     w.integrator = static_cast<WearIntegrator>(
         r.choice("wear.integrator", {"arkode", "cycle", "erk", "dirk"}));
-  // Measured on fretting_wear at n = 32, dirk, N = 1e5 (issue 14, session 6): rtol = 1 put the
-  // worn depth 3.5 % off, 1e300 3.8 times (exit 0); 1e-300 failed inside ARKODE. 1e-14 runs.
+  // Measured on fretting_wear at n = 32, dirk, N = 1e5: rtol = 1 puts the worn
+  // depth 3.5 % off, 1e300 3.8 times (exit 0); 1e-300 fails inside ARKODE. 1e-14 runs.
   if (r.has("wear.rtol"))
     w.rtol = r.real_in("wear.rtol", kMinWearRelTolerance, false, kMaxWearRelTolerance, false);
   if (r.has("wear.atol")) w.atol = r.magnitude("wear.atol");

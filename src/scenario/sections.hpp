@@ -1,4 +1,4 @@
-// Reading and validating each scenario section into its spec (DESIGN §4 "Scenario files").
+// Reading and validating each scenario section into its spec (README "Scenario files").
 #pragma once
 
 #include "fretbem/scenario/scenario.hpp"

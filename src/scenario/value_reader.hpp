@@ -95,8 +95,7 @@ class Reader {
   /// [kMinMagnitude, kMaxMagnitude]. The solvers form products and quotients of up to three
   /// inputs (E* delta h, F / h^2, r^2 / R, squared norms of n^2 values); with every factor
   /// inside 1e+-100 each of them stays inside the double range (1e+-308) with margin, where
-  /// 1e-300 or 1e300 overflowed to inf/NaN residuals or underflowed to silent zero results
-  /// (issue 14, items 5 and 12).
+  /// 1e-300 or 1e300 overflow to inf/NaN residuals or underflow to silent zero results.
   double magnitude(const std::string& key) const {
     const double v = positive(key);
     if (v < kMinMagnitude || v > kMaxMagnitude)

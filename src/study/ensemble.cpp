@@ -72,10 +72,10 @@ fs::path member_dir(double hurst, int seed) {
 
 namespace {
 
-// What the aggregate needs of every member (without each of these an ensemble ran to exit 0):
-// seeds and H change a rough surface only (a sphere gave identical members and a zero-width
-// interval), k_x at every step (`none`/`turning` left every k_x column nan), and a tangential
-// path (without one every bin was empty).
+// What the aggregate needs of every member (without each of these an ensemble runs to exit 0
+// and aggregates nothing): seeds and H change a rough surface only (a sphere gives identical
+// members and a zero-width interval), k_x at every step (`none`/`turning` leave every k_x
+// column nan), and a tangential path (without one every bin is empty).
 void refuse_unaggregatable(const Scenario& sc, const fs::path& file) {
   const std::string where = file.string() + ": ensemble: ";
   if (sc.surface.type != SurfaceType::rough)
@@ -93,7 +93,7 @@ void refuse_unaggregatable(const Scenario& sc, const fs::path& file) {
 }
 
 // Settings every member starts from. One FFT thread: members run side by side. fft_plan = auto:
-// measured plans (2-8 % less CPU per member, docs/performance.md "Session 8"), which
+// measured plans (2-8 % less CPU per member, docs/performance.md), which
 // measure_plans_once has put in the wisdom file, so every member (and a user rerunning one
 // with the same file) plans from the same wisdom and gets the same bits.
 const std::vector<std::string>& member_defaults() {

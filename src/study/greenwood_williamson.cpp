@@ -18,7 +18,7 @@ void check_b(double b) {
 }
 
 // f = F_x/(mu F_z) of a stiffness ratio: up to full sliding (f = 1, zero stiffness). Beyond it
-// the fractal ratio was NaN and the flat one negative (issue 14, session 6).
+// the fractal ratio is NaN and the flat one negative.
 void check_f(double f) {
   if (!(f >= 0.0 && f <= 1.0))
     throw InputError("GW: F_x/(mu F_z) must be in [0, 1], got " + std::to_string(f));

@@ -110,7 +110,7 @@ SweepTally write_sweep_csv(const SweepSpec& spec) {
       for (const auto& c : columns) out << ',' << (by_name.count(c) ? by_name[c] : "");
       out << '\n';
     }
-    // A full disk must not replace a good sweep.csv by a torn one (it did, with exit 0).
+    // A full disk must not replace a good sweep.csv by a torn one.
     write_file_atomically(spec.out / "sweep.csv", out.str());
   }
   return tally;

@@ -65,7 +65,7 @@ std::vector<std::string> range_values(const std::string& key, const std::string&
   std::vector<std::string> out;
   for (int i = 0; i < count; ++i) {
     const double t = count == 1 ? 0.0 : double(i) / (count - 1);
-    // Linear: the weighted mean of the ends, exact for whole numbers (a + t (b - a) gave
+    // Linear: the weighted mean of the ends, exact for whole numbers (a + t (b - a) gives
     // surface.seed = 7.000000000000001 in linear(1, 10000, 10000)).
     double v = log          ? std::exp(std::log(a) + t * (std::log(b) - std::log(a)))
                : count == 1 ? a
@@ -167,8 +167,8 @@ void refuse_duplicates(const SweepSpec& s) {
   }
 }
 
-// Counted before the product is built: two ranges of 10^6 values asked for 10^12 members, and
-// the study grew past 400 MB in two minutes before anything ran (issue 14, session 6).
+// Counted before the product is built: two ranges of 10^6 values ask for 10^12 members, and
+// building them takes past 400 MB in two minutes before anything runs (measured).
 void refuse_too_many_members(const SweepSpec& s) {
   double count = s.zip ? double(s.axes.front().values.size()) : 1.0;
   std::string sizes;

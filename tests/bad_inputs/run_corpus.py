@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Bad-input corpus (issue 14): every case through `fretbem check` and `fretbem run`.
+"""Bad-input corpus: every case through `fretbem check` and `fretbem run`.
 
 Usage: run_corpus.py FRETBEM_BINARY [CORPUS_DIR]
 

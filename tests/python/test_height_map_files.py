@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Measured height maps (issue 16): x3p (ISO 25178-72) and .npz files made here with Python's
+"""Measured height maps: x3p (ISO 25178-72) and .npz files made here with Python's
 stdlib zipfile + xml.etree (as SurfaceTopography's x3p reader is tested) and numpy, loaded by
 `fretbem surface SCENARIO --out FILE.npy` and compared with the arrays they were made from;
 plus the files that must be refused, each with one line on stderr and exit status 2.

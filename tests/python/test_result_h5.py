@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""result.h5 and checkpoint.h5 describe themselves (issue 16), read with h5py as a user would.
+"""result.h5 and checkpoint.h5 describe themselves, read with h5py as a user would.
 
 usage: test_result_h5.py FRETBEM_BINARY SOURCE_DIR
 The grid (n = 12 by 16 cells, length 3e-4 m) is set on the command line, so every expected

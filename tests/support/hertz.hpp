@@ -1,5 +1,5 @@
 // Hertz-sphere scenarios the tests share, and the helpers that run them: the unit sphere of
-// the closed-form checks, issue 14's 32 x 32 steel ball, a step recorder and the energy of one
+// the closed-form checks, a 32 x 32 steel ball, a step recorder and the energy of one
 // load cycle. Header-only: each test executable includes it once.
 #pragma once
 
@@ -35,7 +35,7 @@ inline std::string unit_sphere_ini(int n, const std::string& load, const std::st
   return s.str();
 }
 
-/// Issue 14's steel ball: E = 210 GPa, nu = 0.3, mu = 0.5, R = 10 mm, F_z = 10 N on a 32 x 32
+/// A steel ball: E = 210 GPa, nu = 0.3, mu = 0.5, R = 10 mm, F_z = 10 N on a 32 x 32
 /// grid of side 0.28 mm; the text ends inside [load], callers append the path and sections.
 inline const std::string kSteelSphere32 = R"([material]
 E = 210e9

@@ -1,4 +1,4 @@
-// Run time against error (issue 7, "Measure"): three cases with closed forms, swept over the
+// Run time against error: three cases with closed forms, swept over the
 // grid n and the solver tolerance, run through the same Model/Stepper path as `fretbem run`.
 //
 // Sphere R = 1 on a unit domain, E = 1, nu = 0.3, mu = 0.5, Hertz contact radius a = L/4

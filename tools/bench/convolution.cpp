@@ -1,4 +1,4 @@
-// Benchmark of the half-space operator and the normal solver (foundation issue, "Benchmark").
+// Benchmark of the half-space operator and the normal solver.
 //
 // For each n: median time of one bare convolution (HalfSpace::normal) with FFTW_ESTIMATE and
 // FFTW_MEASURE plans, median time of a full Hertz normal solve (force control, tolerance 1e-10,

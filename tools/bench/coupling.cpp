@@ -1,4 +1,4 @@
-// Extra cost of solver.coupling = coupled (issue 17 §5) on a fretting cycle: Hertz sphere
+// Extra cost of solver.coupling = coupled on a fretting cycle: Hertz sphere
 // (contact radius L/4, rigid on E = 1, nu = 0.3: beta = 0.286), force control +-0.6 mu F_z,
 // stiffness off, one thread. For cerruti and coupled: per step of a steady (second) cycle the
 // convolutions (HalfSpace counter), the normal/tangential alternations, the CPU time, and the

@@ -1,4 +1,4 @@
-// Time per load cycle of the Mindlin–Deresiewicz fretting loop (issues 4 and 13 "Speed"): Hertz
+// Time per load cycle of the Mindlin–Deresiewicz fretting loop: Hertz
 // sphere, contact radius L/4, force control +-0.6 mu F_z, 64 steps per cycle, at n = 128, 256,
 // 512, with solver.stiffness = every, turning and none, and solver.predictor = none and cycle.
 // Reports the median wall and process CPU time of the second cycle (with the predictor also of

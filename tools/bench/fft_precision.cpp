@@ -1,4 +1,4 @@
-// Float against double FFT convolutions (issue 7, "float FFTs as an opt-in Pareto point"):
+// Float against double FFT convolutions (float FFTs as an opt-in Pareto point):
 // for each n, the CPU time of one bare convolution (HalfSpace::normal) in both precisions,
 // timed back to back in every repeat and the ratio formed per repeat; the float result's
 // relative error against the double one; and, up to --max-solve-n, what it does to a Hertz

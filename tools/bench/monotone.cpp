@@ -1,4 +1,4 @@
-// End-to-end cost of the rough monotone run of issue 13 ("Targets": the n = 512 run within
+// End-to-end cost of the rough monotone run (target: the n = 512 run within
 // 1160 bare-convolution equivalents): rough_monotone.ini's material and surface (midpoint
 // fBm, rms slope 0.05, seed 1) at n = 512, H = 0.5, force control to 0.9 mu F_z in 9 increments,
 // k_x every step, one thread. Timed from the model's construction (surface, plans, kernels) to

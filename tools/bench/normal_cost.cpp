@@ -1,5 +1,5 @@
-// Normal solver cost in machine-independent units (issue 7) and the Fourier preconditioner's
-// before/after: for a Hertz sphere (contact radius L/4) and a rough surface (H = 0.5, rms slope
+// Normal solver cost in machine-independent units and the Fourier preconditioner's
+// effect: for a Hertz sphere (contact radius L/4) and a rough surface (H = 0.5, rms slope
 // 0.1, seed 42, ~6 % contact) at n = 128 ... 1024, cold-started force-controlled solves to
 // 1e-10 with plain Polonsky–Keer CG and with the preconditioned CG (M^-1 = S K^-1 S).
 // Reports contact elements, iterations, convolutions, median CPU time, CPU time per iteration

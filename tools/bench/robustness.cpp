@@ -1,4 +1,4 @@
-// bench_robustness: a randomized sweep of cyclic cases through `fretbem run` (issue 18),
+// bench_robustness: a randomized sweep of cyclic cases through `fretbem run`,
 // recording per case the exit code, wall time, tangential iterations (sum and largest) and
 // whether a solver fallback was announced. Any exit code other than 0 is a failure: every
 // case is a load a user can type and that the solver must handle.

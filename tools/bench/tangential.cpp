@@ -1,5 +1,4 @@
-// Benchmark of the incremental tangential solvers (issue 3, "Benchmark"; issue 7, machine-
-// independent cost).
+// Benchmark of the incremental tangential solvers, with machine-independent cost.
 //
 // Cases, on a unit domain (E = 1, nu = 0.3, mu = 0.5, free boundary, analogy coupling):
 //   cattaneo: Hertz sphere R = 1, contact radius L/4 (indentation 1/16), force-controlled ramp

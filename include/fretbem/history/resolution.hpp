@@ -1,4 +1,4 @@
-// Resolution and domain checks of a run (issues 17 §3 and 18): how many cells the slip zone
+// Resolution and domain checks of a run: how many cells the slip zone
 // spans, how much of the normal load sits on the outermost cells of a free-boundary grid, and
 // what a sphere's Hertz solution predicts for both before a run.
 #pragma once
@@ -29,9 +29,9 @@ long contact_nodes(const StateField& state);
 double edge_load_share(const Field& pressure);
 
 /// A free-boundary grid refuses a load share on its outermost cells above this unless
-/// grid.allow_edge_contact = true (the answer then depends on the domain, issue 18).
+/// grid.allow_edge_contact = true (the answer then depends on the domain).
 inline constexpr double kEdgeLoadShareLimit = 0.05;
-/// The resolution report warns when the slip ring spans fewer cells than this (issue 17 §3:
+/// The resolution report warns when the slip ring spans fewer cells than this (measured:
 /// the Mindlin–Deresiewicz energy is within 0.5 % from two cells on, -2.5 % to -6.9 % below).
 inline constexpr double kMinRingCells = 2.0;
 

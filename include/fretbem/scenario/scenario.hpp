@@ -1,5 +1,5 @@
 // Scenario: a validated simulation description in SI units, read from an INI file
-// (Boost.Program_options config syntax) plus `section.key=value` overrides (DESIGN §4).
+// (Boost.Program_options syntax) plus `section.key=value` overrides (README "Scenario files").
 #pragma once
 
 #include <filesystem>
@@ -114,8 +114,8 @@ struct OutputSpec {
   int checkpoint_every = 0;
 };
 
-/// wear.rtol's range, and wear.atol's relative to the unworn indentation (issue 14, session 6):
-/// past 0.1 the error control no longer holds the worn depth (rtol or atol/delta0 = 1 left it
+/// wear.rtol's range, and wear.atol's relative to the unworn indentation (measured):
+/// past 0.1 the error control no longer holds the worn depth (rtol or atol/delta0 = 1 leaves it
 /// 3.5 % off, 1e300 3.8 times, with exit 0); below 1e-14 ARKODE's steps fail (1e-300, 1e-30).
 inline constexpr double kMinWearRelTolerance = 1e-14, kMaxWearRelTolerance = 0.1;
 
@@ -125,11 +125,11 @@ struct WearSpec {
   double cycles = 0.0;       ///< cycle count N to integrate to
   WearIntegrator integrator = WearIntegrator::arkode;
   /// ARKODE tolerances on the worn depth W: relative, and absolute (m); atol = 0 (not given):
-  /// rtol x the indentation of the unworn surface (issue 12).
+  /// rtol x the indentation of the unworn surface.
   double rtol = 1e-3, atol = 0.0;
   WearNewton newton = WearNewton::frozen;
-  /// Share of the worn depth taken by the indenter, the rest by the half-space (issue 6:
-  /// "split between the two bodies with a ratio when both wear"); 1 = indenter only.
+  /// Share of the worn depth taken by the indenter, the rest by the half-space (split
+  /// between the two bodies with a ratio when both wear); 1 = indenter only.
   double indenter_share = 1.0;
 };
 
@@ -160,7 +160,7 @@ struct Scenario {
   WearSpec wear;
   FrictionSpec friction;
   /// grid.allow_edge_contact: run even when a free-boundary grid carries more than
-  /// kEdgeLoadShareLimit of the normal load on its outermost cells (issue 18).
+  /// kEdgeLoadShareLimit of the normal load on its outermost cells.
   bool allow_edge_contact = false;
 };
 

@@ -28,8 +28,8 @@ struct EnsembleOptions {
 /// Largest --bins: an aggregate row per bin and H; 10^4 bins already resolve F_x/(mu F_z)
 /// far below any member's load step (10^8 bins would write a 17 GB file).
 constexpr int kMaxBins = 10000;
-/// Largest --seeds (surface.seed = 1..seeds): --seeds 2147483647 looped forever (the seed
-/// counter overflowed) while the member list grew.
+/// Largest --seeds (surface.seed = 1..seeds): --seeds 2147483647 would loop forever (the
+/// seed counter overflows) while the member list grows.
 constexpr int kMaxSeeds = 100000;
 
 /// "0.1,0.3" -> {0.1, 0.3}; InputError naming --hurst on a bad list or a repeated value.

@@ -2,7 +2,7 @@
 // parabolic asperities of radius R, exponential height density Phi(z) = C exp(-z/lambda), each
 // a Hertz–Mindlin contact (eqs. 3–10), no interaction. Closed forms as functions of
 // b = d_min/lambda (eq. 5), and a direct numerical model that integrates the asperity laws over
-// the height distribution to check them (DESIGN §3, rung 6).
+// the height distribution to check them (docs/architecture.md "Validation ladder").
 #pragma once
 
 namespace fretbem::gw {

@@ -1,8 +1,9 @@
-// Per-member grid choice of a study (issue 15): a Hertz sphere under a cyclic tangential load
+// Per-member grid choice of a study: a Hertz sphere under a cyclic tangential load
 // dissipates in a slip ring a (1 - (1 - q)^(1/3)) wide, and the energy per cycle is within
-// 0.5 % of Mindlin–Deresiewicz only where that ring spans kMinRingCells cells or more (issue 17
-// §3). Small amplitudes need finer grids than large ones: the study refines each member's grid
-// to what its own amplitude needs, up to a ceiling, and says which members stay under-resolved.
+// 0.5 % of Mindlin–Deresiewicz only where that ring spans kMinRingCells cells or more
+// (measured, resolution.hpp). Small amplitudes need finer grids than large ones: the study
+// refines each member's grid to what its own amplitude needs, up to a ceiling, and says which
+// members stay under-resolved.
 #pragma once
 
 #include "fretbem/scenario/scenario.hpp"
