@@ -462,6 +462,22 @@ TEST_F(Faults, CorruptedCheckpointsAreRefused) {
          t[5] = INFINITY;
          replace_dataset(p, "traction0", t, {16, 16});
        }},
+      {"bound of another grid", "memory_field_bound",
+       [&](const fs::path& p) {
+         replace_dataset(p, "memory_field_bound", std::vector<double>(64, 0.0), {8, 8});
+       }},
+      {"negative bound", "memory_field_bound",
+       [&](const fs::path& p) {
+         auto g = read_vector(p, "memory_field_bound");
+         g[7] = -1.0;
+         replace_dataset(p, "memory_field_bound", g, {16, 16});
+       }},
+      {"state 4", "state holds 4",
+       [&](const fs::path& p) {
+         auto st = read_vector(p, "state");
+         st[3] = 4.0;
+         replace_dataset(p, "state", st, {16, 16});
+       }},
       {"last_target overlong", "last_target",
        [&](const fs::path& p) {
          replace_dataset(p, "last_target", {1e9, 0.0}, {2});
