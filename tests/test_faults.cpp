@@ -28,6 +28,7 @@
 
 #include "fretbem/io/checkpoint.hpp"
 #include "support/child_process.hpp"
+#include "support/varying_normal_table.hpp"
 
 namespace fs = std::filesystem;
 
@@ -526,12 +527,7 @@ TEST_F(Faults, CheckpointWithOldFormatNameResumes) {
 // rows, dissipation included, are the uninterrupted run's.
 TEST_F(Faults, ResumeKeepsTheBoundOfTheLastStep) {
   const fs::path table = dir_ / "T2.csv";
-  std::ofstream t(table);
-  t << "time,Fz,Fx\n";
-  const double fx[] = {0, 1.41421, 2, 1.41421, 0, -1.41421, -2, -1.41421};
-  for (int i = 0; i <= 16; ++i)
-    t << i / 8.0 << "," << (i % 2 ? (i % 4 == 1 ? 13 : 7) : 10) << "," << fx[i % 8] << "\n";
-  t.close();
+  fretbem_test::write_varying_normal_table(table);
   const fs::path src(FRETBEM_SOURCE_DIR);
   const std::string kinetic = (src / "scenarios" / "varying_normal.ini").string() +
                               " --quiet --set grid.n=32 --set load.table=" + table.string() +
