@@ -28,6 +28,7 @@
 
 #include "fretbem/io/checkpoint.hpp"
 #include "support/child_process.hpp"
+#include "support/varying_normal_table.hpp"
 
 namespace fs = std::filesystem;
 
@@ -86,21 +87,26 @@ std::vector<std::vector<std::string>> rows_of(const fs::path& csv) {
 // (work counter) and kx: the stiffness CG's warm start is not checkpointed, and two CG solves
 // stopped at relative residual 1e-9 from different starts differ by up to the condition
 // number times that (1.1e-8 relative seen at n = 16 after a full-disk stop): 1e-7.
-void expect_same_rows(const fs::path& a, const fs::path& b) {
-  const auto ra = rows_of(a / "timeseries.csv"), rb = rows_of(b / "timeseries.csv");
-  ASSERT_EQ(ra.size(), rb.size());
+// The same for any CSV of the run (cycles.csv: kx_at_max, kx_at_min as kx).
+void expect_same_csv(const fs::path& a, const fs::path& b, const std::string& name) {
+  const auto ra = rows_of(a / name), rb = rows_of(b / name);
+  ASSERT_EQ(ra.size(), rb.size()) << name;
   const auto& cols = ra[0];
   for (std::size_t i = 1; i < ra.size(); ++i) {
-    ASSERT_EQ(ra[i].size(), rb[i].size()) << "row " << i;
+    ASSERT_EQ(ra[i].size(), rb[i].size()) << name << " row " << i;
     for (std::size_t c = 0; c < cols.size(); ++c) {
       if (cols[c] == "convolutions") continue;
-      if (cols[c] == "kx") {
+      if (cols[c].starts_with("kx")) {
         EXPECT_NEAR(std::stod(ra[i][c]), std::stod(rb[i][c]), 1e-7 * std::abs(std::stod(ra[i][c])));
         continue;
       }
-      EXPECT_EQ(ra[i][c], rb[i][c]) << "row " << i << " column " << cols[c];
+      EXPECT_EQ(ra[i][c], rb[i][c]) << name << " row " << i << " column " << cols[c];
     }
   }
+}
+
+void expect_same_rows(const fs::path& a, const fs::path& b) {
+  expect_same_csv(a, b, "timeseries.csv");
   EXPECT_EQ(rows_of(a / "cycles.csv").size(), rows_of(b / "cycles.csv").size());
 }
 
@@ -457,6 +463,22 @@ TEST_F(Faults, CorruptedCheckpointsAreRefused) {
          t[5] = INFINITY;
          replace_dataset(p, "traction0", t, {16, 16});
        }},
+      {"bound of another grid", "memory_field_bound",
+       [&](const fs::path& p) {
+         replace_dataset(p, "memory_field_bound", std::vector<double>(64, 0.0), {8, 8});
+       }},
+      {"negative bound", "memory_field_bound",
+       [&](const fs::path& p) {
+         auto g = read_vector(p, "memory_field_bound");
+         g[7] = -1.0;
+         replace_dataset(p, "memory_field_bound", g, {16, 16});
+       }},
+      {"state 4", "state holds 4",
+       [&](const fs::path& p) {
+         auto st = read_vector(p, "state");
+         st[3] = 4.0;
+         replace_dataset(p, "state", st, {16, 16});
+       }},
       {"last_target overlong", "last_target",
        [&](const fs::path& p) {
          replace_dataset(p, "last_target", {1e9, 0.0}, {2});
@@ -497,6 +519,38 @@ TEST_F(Faults, CheckpointWithOldFormatNameResumes) {
   const Result r = run("run --resume " + part.string() + " --quiet", dir_);
   ASSERT_EQ(r.code, 0) << r.err;
   expect_same_rows(full(), part);
+}
+
+// A bound that moves with the state (static_kinetic at a varying normal load; evolving
+// friction under Coupling::coupled): the step's dissipation quadrature starts from the bound
+// the last step ended with, which is not recomputable from the state after it. The resumed
+// rows, dissipation included, are the uninterrupted run's.
+TEST_F(Faults, ResumeKeepsTheBoundOfTheLastStep) {
+  const fs::path table = dir_ / "T2.csv";
+  fretbem_test::write_varying_normal_table(table);
+  const fs::path src(FRETBEM_SOURCE_DIR);
+  const std::string kinetic = (src / "scenarios" / "varying_normal.ini").string() +
+                              " --quiet --set grid.n=32 --set load.table=" + table.string() +
+                              " --set friction.law=static_kinetic --set friction.mu_kinetic=0.4";
+  const std::string coupled =
+      (src / "scenarios" / "mindlin_cycle.ini").string() +
+      " --quiet --set grid.n=32 --set load.cycles=1 --set load.steps_per_cycle=16"
+      " --set solver.coupling=coupled --set friction.law=evolving --set friction.mu_final=0.7"
+      " --set friction.scale=1";
+  for (const auto& [args, stop] : {std::pair{kinetic, 6}, std::pair{coupled, 1}}) {
+    const fs::path whole = dir_ / ("whole" + std::to_string(stop));
+    const fs::path part = dir_ / ("part" + std::to_string(stop));
+    ASSERT_EQ(run("run " + args + " --out " + whole.string(), dir_).code, 0);
+    ASSERT_EQ(
+        run("run " + args + " --stop-after " + std::to_string(stop) + " --out " + part.string(),
+            dir_)
+            .code,
+        0);
+    const Result r = run("run --resume " + part.string() + " --quiet", dir_);
+    ASSERT_EQ(r.code, 0) << r.err;
+    expect_same_rows(whole, part);
+    expect_same_csv(whole, part, "cycles.csv");
+  }
 }
 
 // Outputs that do not belong to the checkpoint are refused, not patched.

@@ -16,6 +16,7 @@
 #include "fretbem/io/checkpoint.hpp"
 #include "support/child_process.hpp"
 #include "support/hertz.hpp"
+#include "support/varying_normal_table.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -255,6 +256,37 @@ TEST(Resume, StopAndResumeMatchesUninterruptedRun) {
   ASSERT_EQ(sh(bin + " run --quiet --resume " + (d / "part").string()), 0);
   expect_same_run(d / "full", d / "part");
   fs::remove_all(d);
+}
+
+// Stepper::memory holds what the next step reads besides the InterfaceState: with static_kinetic
+// friction under a varying normal load the bound a step ends with depends on the state at its
+// start, and a stepper restored after step 6 continues with the uninterrupted run's rows,
+// dissipation included (Coulomb work sum g |s|, which takes the bound of the last step).
+TEST(Resume, RestoredStepperContinuesWithTheSameDissipation) {
+  const fs::path table =
+      fs::temp_directory_path() / ("fretbem_kinetic_" + std::to_string(getpid()));
+  fretbem_test::write_varying_normal_table(table);
+  const std::string text =
+      "[material]\nE = 210e9\nnu = 0.3\nmu = 0.5\n[grid]\nn = 32\n"
+      "length = 2.8e-4\n[surface]\ntype = sphere\nradius = 0.01\n[load]\n"
+      "path = table\ncontrol = force\ntable = " +
+      table.string() + "\n[friction]\nlaw = static_kinetic\nmu_kinetic = 0.4\n";
+  const Scenario sc = parse_scenario(text, "test", fs::temp_directory_path());
+  const std::vector<StepRecord> whole = fretbem_test::run_steps(sc);
+  auto first = build_model(sc), second = build_model(sc);
+  Stepper a(*first), b(*second);
+  fretbem_test::StepRecorder head, tail;
+  a.run({&head}, 7);
+  b.restore(a.state(), a.memory(), a.predictor());
+  b.run({&tail});
+  ASSERT_EQ(head.rows.size() + tail.rows.size(), whole.size());
+  for (std::size_t k = 0; k < tail.rows.size(); ++k) {
+    const StepRecord& w = whole[k + 7];
+    EXPECT_EQ(tail.rows[k].dissipation, w.dissipation) << "step " << w.step;
+    EXPECT_EQ(tail.rows[k].Fx, w.Fx) << "step " << w.step;
+    EXPECT_EQ(tail.rows[k].slip_area, w.slip_area) << "step " << w.step;
+  }
+  fs::remove(table);
 }
 
 // The cycle predictor's memory is in the checkpoint: stopped in the third cycle (where every

@@ -227,6 +227,34 @@ TEST(WearResume, CycleModeStopAndResume) {
   fs::remove_all(part);
 }
 
+// A varying normal load leaves nodes on their bound without slipping (NodeState::stuck_at_bound)
+// at the end of a cycle; the checkpoint holds them and the resumed run is the uninterrupted one.
+TEST(WearResume, CycleModeResumesWithNodesStuckAtTheirBound) {
+  const fs::path full = fresh_dir("sab_full"), part = fresh_dir("sab_part");
+  const fs::path table = fresh_dir("sab_table.csv");
+  std::ofstream(table) << "time,Fz,Fx\n0,10,0\n0.125,13,1.41421\n0.25,10,2\n0.375,7,1.41421\n"
+                          "0.5,10,2.4e-16\n0.625,13,-1.41421\n0.75,10,-2\n0.875,7,-1.41421\n"
+                          "1,10,-4.9e-16\n";
+  const std::string args =
+      "run " + (fs::path(FRETBEM_SOURCE_DIR) / "scenarios" / "varying_normal.ini").string() +
+      " --quiet --set load.table=" + table.string() +
+      " --set grid.n=32 --set wear.law=archard --set wear.coefficient=5e-14 --set wear.cycles=5"
+      " --set wear.integrator=cycle --out ";
+  ASSERT_EQ(sh(args + full.string()), 0);
+  ASSERT_EQ(sh(args + part.string() + " --stop-after 1"), 0);
+  ASSERT_EQ(sh("run --quiet --resume " + part.string()), 0);
+  const auto Wf = h5_field(full / "result.h5", "/wear/final_worn_depth");
+  ASSERT_GT(max_abs(Wf), 0.0);
+  EXPECT_EQ(Wf, h5_field(part / "result.h5", "/wear/final_worn_depth"));
+  const Csv a = read_csv(full / "cycles.csv"), b = read_csv(part / "cycles.csv");
+  EXPECT_EQ(a.column("N"), b.column("N"));
+  EXPECT_EQ(a.column("energy_per_cycle"), b.column("energy_per_cycle"));
+  EXPECT_EQ(a.column("wear_volume"), b.column("wear_volume"));
+  fs::remove_all(full);
+  fs::remove_all(part);
+  fs::remove(table);
+}
+
 // ERK: stop after 3 accepted steps, resume with a fresh integrator at (N, W) and the saved
 // step. Both runs keep the local error below rtol |W| + atol per step; their final worn
 // depths differ by the integrators' different step sequences, a global error of the order of
@@ -457,6 +485,21 @@ std::string field_group(long step) {
 
 const std::string kFieldArgs = "--set output.fields=pressure,wear,state,traction_x";
 
+herr_t add_link(hid_t, const char* name, const H5L_info_t*, void* names) {
+  static_cast<std::vector<std::string>*>(names)->push_back(name);
+  return 0;
+}
+
+// Every group and dataset of an HDF5 file, by path, in name order.
+std::vector<std::string> h5_paths(const fs::path& file) {
+  std::vector<std::string> names;
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  EXPECT_GE(f, 0) << file;
+  H5Lvisit(f, H5_INDEX_NAME, H5_ITER_INC, add_link, &names);
+  H5Fclose(f);
+  return names;
+}
+
 }  // namespace
 
 // Cycle mode saves the fields of the states a user can place: the normal loading (row 0) and
@@ -516,6 +559,23 @@ TEST(WearFields, ResumedRunSavesTheUninterruptedFields) {
       const auto y = h5_field(part / "result.h5", field_group(step) + "/" + f);
       EXPECT_LE(max_diff(x, y), 1e-9 * std::max(max_abs(x), 1e-300)) << step << " " << f;
     }
+  fs::remove_all(full);
+  fs::remove_all(part);
+}
+
+// An ODE (erk) wear run saving fields every third row, stopped after three accepted steps and
+// resumed, has every group and dataset of the uninterrupted run's result.h5.
+TEST(WearFields, ResumedErkRunKeepsEveryFieldGroup) {
+  const fs::path full = fresh_dir("erk_fields_full"), part = fresh_dir("erk_fields_part");
+  const std::string fields = kFieldArgs + " --set output.fields_every=3";
+  ASSERT_EQ(sh(run_args(full, "erk", 300, fields)), 0);
+  ASSERT_EQ(sh(run_args(part, "erk", 300, fields + " --stop-after 3")), 0);
+  ASSERT_EQ(sh("run --quiet --resume " + part.string()), 0);
+  const auto a = h5_paths(full / "result.h5");
+  ASSERT_GT(std::count_if(a.begin(), a.end(),
+                          [](const std::string& p) { return p.starts_with("fields/step_"); }),
+            1);
+  EXPECT_EQ(a, h5_paths(part / "result.h5"));
   fs::remove_all(full);
   fs::remove_all(part);
 }

@@ -28,20 +28,30 @@ std::size_t Stepper::run(const std::vector<Observer*>& observers, std::size_t ma
 }
 
 StepperMemory Stepper::memory() const {
-  return {next_, last_normal_, last_target_, dissipation_, wear_volume_};
+  StepperMemory m{next_, last_normal_, last_target_, dissipation_, wear_volume_, {}};
+  if (bound_.size() > 0) m.fields["bound"] = bound_;
+  for (std::size_t c = 0; c < pressure_slip_.size(); ++c)
+    m.fields["pressure_slip" + std::to_string(c)] = pressure_slip_[c];
+  return m;
 }
 
 void Stepper::restore(const InterfaceState& state, const StepperMemory& m,
                       CyclePredictor predictor) {
   state_ = state;
   predictor_ = std::move(predictor);
-  model_.friction->bound(state_, bound_);
+  const auto bound = m.fields.find("bound");
+  if (bound != m.fields.end())
+    bound_ = bound->second;
+  else
+    model_.friction->bound(state_, bound_);
   next_ = m.next_step;
   last_normal_ = m.last_normal;
   last_target_ = m.last_target;
   dissipation_ = m.dissipation;
   wear_volume_ = m.wear_volume;
   pressure_slip_.clear();
+  const auto w0 = m.fields.find("pressure_slip0"), w1 = m.fields.find("pressure_slip1");
+  if (w0 != m.fields.end() && w1 != m.fields.end()) pressure_slip_ = {w0->second, w1->second};
 }
 
 StepRecord Stepper::advance(std::size_t k) {

@@ -12,6 +12,8 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <sstream>
 #include <vector>
 
 #include "fretbem/core/errors.hpp"
@@ -141,6 +143,22 @@ void write_state(hid_t f, const InterfaceState& s) {
       {s.shift.x(), s.shift.y(), s.normal_force, s.indentation, double(s.traction.size())});
 }
 
+// The Stepper's per-node memory, whatever it names: the names one a line in memory_fields, each
+// field as memory_field_<name>. Checkpoints written without them resume from the bound
+// recomputed from the state.
+constexpr const char* kMemoryFields = "memory_fields";
+constexpr const char* kMemoryFieldPrefix = "memory_field_";
+
+void write_memory_fields(hid_t f, const std::map<std::string, Field>& fields) {
+  if (fields.empty()) return;
+  std::string names;
+  for (const auto& [name, field] : fields) {
+    names += name + "\n";
+    write_field(f, kMemoryFieldPrefix + name, field);
+  }
+  write_text(f, kMemoryFields, names);
+}
+
 void write_memory(hid_t f, const StepperMemory& m) {
   const auto& n = m.last_normal;
   write_vector(f, "memory",
@@ -149,6 +167,7 @@ void write_memory(hid_t f, const StepperMemory& m) {
   std::vector<double> t(m.last_target.data(), m.last_target.data() + m.last_target.size());
   t.insert(t.begin(), double(t.size()));
   write_vector(f, "last_target", t);
+  write_memory_fields(f, m.fields);
 }
 
 // The wear part (wear runs only): scalars in one vector, the worn depth as a field.
@@ -299,9 +318,12 @@ InterfaceState read_state(const Reader& r) {
   s.slip_path = r.field("slip_path");
   s.dissipation = r.field("dissipation");
   s.wear = r.field("wear");
+  // Every NodeState, stuck_at_bound (3) included: the checkpoint holds the state as the last
+  // step left it (the stiffness solve tells stick from stuck_at_bound), so a resumed run is the
+  // uninterrupted one; only result.h5's `state` field counts 3 as stick.
   const Field state = r.field("state");
   for (double x : state.reshaped())
-    if (!(x == 0 || x == 1 || x == 2)) r.fail("state holds " + std::to_string(x));
+    if (!(x == 0 || x == 1 || x == 2 || x == 3)) r.fail("state holds " + std::to_string(x));
   s.state = state.cast<std::uint8_t>();
   s.shift = Vec2(sc[0], sc[1]);
   s.normal_force = sc[2];
@@ -321,6 +343,10 @@ StepperMemory read_memory(const Reader& r) {
   const long nt = count(r, "last_target[0] (its length)", t[0], 0, double(t.size() - 1));
   if (std::size_t(nt) + 1 != t.size()) r.fail("last_target length does not match its count");
   m.last_target = Eigen::Map<const Eigen::VectorXd>(t.data() + 1, Eigen::Index(nt));
+  if (!r.exists(kMemoryFields)) return m;
+  std::istringstream names(r.text(kMemoryFields));
+  for (std::string name; std::getline(names, name);)
+    m.fields[name] = r.field(kMemoryFieldPrefix + name);
   return m;
 }
 

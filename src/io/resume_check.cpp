@@ -145,6 +145,8 @@ void validate_checkpoint(const Checkpoint& cp, const Model& m, const fs::path& f
   if (mem.last_normal) check_scalar(file, "last normal load", mem.last_normal->value);
   if (mem.last_target.size() > 2 || !mem.last_target.allFinite())
     refuse(file, "last_target is not a finite 1- or 2-vector");
+  for (const auto& [name, f] : mem.fields)  // a Coulomb bound is never negative
+    check_field(file, "memory_field_" + name, f, g, name == "bound");
   if (cp.wear) check_wear(file, *cp.wear, m);
   try {
     (void)CyclePredictor::unflatten(cp.predictor, std::size_t(g.nx * g.ny), nc);

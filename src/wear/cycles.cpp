@@ -154,6 +154,7 @@ void WearCycles::fresh(const Field& worn) {
   StepperMemory m = stepper_.memory();
   m.last_normal.reset();  // forces the normal re-solve on the new surface
   m.last_target.resize(0);
+  m.fields.clear();  // the bound and the pressure's slip follow from the zero state
   m.wear_volume = worn.sum() * model_.scenario.grid.cell_area();
   stepper_.restore(s, m);
 }

@@ -38,8 +38,8 @@ import sys
 import time
 
 from combo_cases import FULL, QUICK, draw_case
-from combo_invariants import final_wear_close, read_rows, run_invariants, same_field_groups, \
-    same_rows
+from combo_invariants import final_wear_close, kx_rtol, read_rows, run_invariants, \
+    same_field_groups, same_rows
 from fretbem_outputs import LIBRARY_TEXT, nonfinite_in_csv, nonfinite_in_h5
 
 # Per fretbem command: the cases take 0.01-20 s of CPU (a coupled dirk wear run at n = 32 took
@@ -200,7 +200,8 @@ def compare_resumed(case, cwd, plain, label, out):
         return problems + final_wear_close(f"resume ({label}, dirk)", case, os.path.join(
             ref, "cycles.csv"), os.path.join(new, "cycles.csv"))
     for name in ("timeseries.csv", "cycles.csv"):
-        problems += same_rows(label, name, os.path.join(ref, name), os.path.join(new, name))
+        problems += same_rows(label, name, os.path.join(ref, name), os.path.join(new, name),
+                              kx_rtol(case))
     return problems + same_field_groups(label, os.path.join(ref, "result.h5"),
                                         os.path.join(new, "result.h5"))
 

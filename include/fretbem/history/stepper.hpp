@@ -5,6 +5,8 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
+#include <string>
 #include <vector>
 
 #include "fretbem/contact/step_work.hpp"
@@ -30,6 +32,13 @@ struct StepperMemory {
   Eigen::VectorXd last_target;
   double dissipation = 0.0;
   double wear_volume = 0.0;
+  /// The per-node memory the next step reads besides the InterfaceState, by name: "bound",
+  /// the Coulomb bound g (Pa) the last step ended with (computed from the state at the start
+  /// of that step's normal solve, so not recomputable from the state after it: a friction law
+  /// that depends on the state, static_kinetic or evolving, gives another g), and under
+  /// Coupling::coupled "pressure_slip0"/"pressure_slip1" (m). Empty: restore recomputes the
+  /// bound from the state (a fresh start, or a checkpoint written without them).
+  std::map<std::string, Field> fields;
 };
 
 class Stepper {
