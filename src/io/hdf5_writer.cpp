@@ -11,6 +11,7 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/hdf5.hpp"
 #include "fretbem/core/text_file.hpp"
+#include "fretbem/io/column_series.hpp"
 #include "fretbem/io/field_series.hpp"
 #include "fretbem/io/result_metadata.hpp"
 
@@ -62,6 +63,7 @@ struct Hdf5Writer::Impl {
   fs::path path;
   FileH file;
   DatasetH timeseries;
+  ColumnSeries column_series;  // the same rows, one variable per column
   std::vector<std::string> columns;
   std::size_t rows = 0;
   GridCoordinates coordinates;  // of the saved steps' scales; set by describe()
@@ -164,6 +166,11 @@ void Hdf5Writer::Impl::open_timeseries() {
     columns.emplace_back(s ? s : "");
     H5free_memory(s);
   }
+  std::vector<double> table(rows * columns.size());
+  if (!table.empty())
+    check(H5Dread(timeseries.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, table.data()),
+          "read /timeseries");
+  column_series = ColumnSeries::open_or_rebuild(file.get(), columns, table, path.string());
 }
 
 namespace {
@@ -238,6 +245,7 @@ const fs::path& Hdf5Writer::path() const {
 
 void Hdf5Writer::close() {
   impl_->timeseries.close();
+  impl_->column_series = ColumnSeries();
   if (impl_->file.close() < 0) impl_->fail("close");
 }
 
@@ -329,6 +337,7 @@ void Hdf5Writer::start_timeseries(const std::vector<std::string>& columns) {
   for (const auto& c : columns) units.push_back(column_units(c));
   impl_->write_columns_attribute(impl_->timeseries.get(), "columns", columns);
   impl_->write_columns_attribute(impl_->timeseries.get(), "units", units);
+  impl_->column_series = ColumnSeries::create(impl_->file.get(), columns, impl_->path.string());
   impl_->flush();
 }
 
@@ -353,6 +362,7 @@ void Hdf5Writer::append_row(const std::vector<double>& row) {
   impl_->check(
       H5Dwrite(d, H5T_NATIVE_DOUBLE, mem_space.get(), file_space.get(), H5P_DEFAULT, row.data()),
       "append to /timeseries");
+  impl_->column_series.append(row);
   ++impl_->rows;
   impl_->flush();
 }
@@ -361,6 +371,7 @@ void Hdf5Writer::truncate_timeseries(std::size_t rows) {
   if (!impl_->timeseries.valid() || rows >= impl_->rows) return;
   const hsize_t dims[2] = {rows, impl_->columns.size()};
   impl_->check(H5Dset_extent(impl_->timeseries.get(), dims), "truncate /timeseries");
+  impl_->column_series.truncate(rows);
   impl_->rows = rows;
   impl_->flush();
 }
