@@ -57,6 +57,15 @@ PlistH access_plist() {
   return fapl;
 }
 
+// Chunk B-tree nodes of 2 x 4 entries instead of 2 x 32: each extendible dataset carries one
+// node from its first write, ~2 KiB at the default, and /series/timeseries holds ~30 of them
+// (measured: 98 KiB of metadata after the first row; HDF5 1.10 file format, any reader).
+PlistH creation_plist() {
+  PlistH fcpl(H5Pcreate(H5P_FILE_CREATE));
+  if (fcpl.valid()) H5Pset_istore_k(fcpl.get(), 4);
+  return fcpl;
+}
+
 }  // namespace
 
 struct Hdf5Writer::Impl {
@@ -218,7 +227,8 @@ Hdf5Writer::Hdf5Writer(const fs::path& dir, const std::string& name)
   hdf5::silence();
   impl_->path = dir / name;
   create_output_folder(dir);
-  const hid_t f = H5Fcreate(impl_->path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access_plist().get());
+  const hid_t f =
+      H5Fcreate(impl_->path.c_str(), H5F_ACC_TRUNC, creation_plist().get(), access_plist().get());
   if (f < 0) throw InputError(impl_->path.string() + ": cannot create: " + hdf5::last_error());
   impl_->file = FileH(f);
 }

@@ -74,8 +74,9 @@ void write_coordinate(hid_t loc, const char* name, const std::vector<double>& c,
 
 hdf5::Dataset create_extendible_vector(hid_t loc, const std::string& name, hid_t type,
                                        const std::string& what) {
-  // 256 entries (2 KiB) per chunk: a run appends one entry per saved step or row.
-  const hsize_t dims = 0, maxdims = H5S_UNLIMITED, chunk = 256;
+  // 64 entries (512 B) per chunk: a run appends one entry per saved step or row, and a file
+  // holds ~30 of these vectors from its first row on.
+  const hsize_t dims = 0, maxdims = H5S_UNLIMITED, chunk = 64;
   hdf5::Space space(checked(H5Screate_simple(1, &dims, &maxdims), what, "create a dataspace"));
   hdf5::Plist dcpl(checked(H5Pcreate(H5P_DATASET_CREATE), what, "create a property list"));
   checked(H5Pset_chunk(dcpl.get(), 1, &chunk), what, "set the chunk size");

@@ -74,7 +74,7 @@ void write_coordinate(hid_t loc, const char* name, const std::vector<double>& ce
                       const std::string& what);
 
 /// Creates the empty 1-D dataset `name` under `loc`, extendible without limit along its one
-/// axis (the saved steps, the time-series rows), chunked by 256 entries.
+/// axis (the saved steps, the time-series rows), chunked by 64 entries.
 hdf5::Dataset create_extendible_vector(hid_t loc, const std::string& name, hid_t type,
                                        const std::string& what);
 
