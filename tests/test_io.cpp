@@ -2,6 +2,7 @@
 // the time series read back with the HDF5 C API, in the documented orientation.
 #include <gtest/gtest.h>
 #include <hdf5.h>
+#include <hdf5_hl.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -104,6 +105,16 @@ struct H5Reader {
     H5Sclose(s);
     H5Aclose(a);
     return out;
+  }
+  /// A scalar fixed-length string attribute (units, coordinates).
+  std::string text_attribute(const std::string& obj, const char* name) const {
+    const hid_t a = H5Aopen_by_name(file, obj.c_str(), name, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t t = H5Aget_type(a);
+    std::string out(H5Tget_size(t), '\0');
+    EXPECT_GE(H5Aread(a, t, out.data()), 0);
+    H5Tclose(t);
+    H5Aclose(a);
+    return out.substr(0, out.find('\0'));
   }
   template <class T>
   T scalar_attribute(const std::string& obj, const char* name, hid_t mem_type) const {
@@ -279,6 +290,61 @@ TEST(Hdf5, OpenExistingAppendsAndTruncates) {
   EXPECT_EQ(r.dims("/timeseries"), (std::vector<hsize_t>{4, 2}));
   EXPECT_EQ(r.doubles("/timeseries"), (std::vector<double>{0, 0, 1, 10, 2, 20, 3, -1}));
   EXPECT_EQ(r.doubles("/fields/step_000003/pressure"), (std::vector<double>(4, 0.0)));
+  // The per-column variables follow the truncation and the appended row.
+  EXPECT_EQ(r.doubles("/series/timeseries/step"), (std::vector<double>{0, 1, 2, 3}));
+  EXPECT_EQ(r.doubles("/series/timeseries/Fx"), (std::vector<double>{0, 10, 20, -1}));
+}
+
+// netCDF-4 readers see one variable per column: /series/timeseries/COLUMN over the dimension
+// scale `step` (int64), with the column's units, labelled by the load-path time.
+TEST(Hdf5, TimeseriesColumnsAreVariablesOverStep) {
+  TempDir tmp;
+  {
+    Hdf5Writer h5(tmp.path);
+    h5.start_timeseries({"step", "time", "Fx", "Ux", "contact_area"});
+    h5.append_row({0, 0.0, 0.0, 0.0, 1e-8});
+    h5.append_row({1, 0.5, 2.5, 1e-6, std::nan("")});
+  }
+  H5Reader r(tmp.path / "result.h5");
+  const std::string g = "/series/timeseries/";
+  EXPECT_EQ(r.dims(g + "step"), (std::vector<hsize_t>{2}));
+  EXPECT_EQ(r.doubles(g + "time"), (std::vector<double>{0.0, 0.5}));
+  EXPECT_EQ(r.doubles(g + "Fx"), (std::vector<double>{0.0, 2.5}));
+  EXPECT_EQ(r.doubles(g + "Ux"), (std::vector<double>{0.0, 1e-6}));
+  EXPECT_TRUE(std::isnan(r.doubles(g + "contact_area")[1]));
+  const hid_t step = H5Dopen2(r.file, (g + "step").c_str(), H5P_DEFAULT);
+  const hid_t type = H5Dget_type(step);
+  EXPECT_TRUE(H5Tequal(type, H5T_STD_I64LE) > 0);
+  EXPECT_EQ(H5DSis_scale(step), 1);
+  const hid_t fx = H5Dopen2(r.file, (g + "Fx").c_str(), H5P_DEFAULT);
+  EXPECT_EQ(H5DSis_attached(fx, step, 0), 1);
+  H5Dclose(fx), H5Tclose(type), H5Dclose(step);
+  EXPECT_EQ(r.text_attribute(g + "Fx", "units"), "N");
+  EXPECT_EQ(r.text_attribute(g + "Ux", "units"), "m");
+  EXPECT_EQ(r.text_attribute(g + "contact_area", "units"), "m2");
+  EXPECT_EQ(r.text_attribute(g + "Fx", "coordinates"), "time");
+}
+
+// A file without the per-column variables (format 3) gets them from /timeseries on reopening.
+TEST(Hdf5, OpenExistingRebuildsTheColumnVariables) {
+  TempDir tmp;
+  {
+    Hdf5Writer h5(tmp.path);
+    h5.start_timeseries({"step", "Fx"});
+    for (int k = 0; k < 3; ++k) h5.append_row({double(k), 10.0 * k});
+  }
+  {
+    const hid_t f = H5Fopen((tmp.path / "result.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(H5Ldelete(f, "/series/timeseries", H5P_DEFAULT), 0);
+    H5Fclose(f);
+  }
+  {
+    Hdf5Writer h5 = Hdf5Writer::open_existing(tmp.path);
+    h5.append_row({3.0, 30.0});
+  }
+  H5Reader r(tmp.path / "result.h5");
+  EXPECT_EQ(r.doubles("/series/timeseries/step"), (std::vector<double>{0, 1, 2, 3}));
+  EXPECT_EQ(r.doubles("/series/timeseries/Fx"), (std::vector<double>{0, 10, 20, 30}));
 }
 
 // A run may save any number of steps: 10 000 saved steps of an 8 x 8 grid (with the x/y

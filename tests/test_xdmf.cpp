@@ -31,12 +31,12 @@ const std::vector<std::string> kSets = {"grid.n=16", "load.cycles=1", "load.step
                                         "output.fields=pressure,state,slip_x",
                                         "output.fields_every=4"};
 
-fs::path run_small(const std::string& tag) {
+fs::path run_small(const std::string& tag, const std::vector<std::string>& sets = kSets) {
   const fs::path dir =
       fs::temp_directory_path() / ("fretbem_xdmf_" + tag + std::to_string(getpid()));
   fs::remove_all(dir);
   std::string cmd = std::string(FRETBEM_BINARY) + " run " + kScenario.string() + " --quiet";
-  for (const auto& s : kSets) cmd += " --set " + s;
+  for (const auto& s : sets) cmd += " --set " + s;
   cmd += " --out " + dir.string() + " > /dev/null 2>&1";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
   return dir;
@@ -70,15 +70,16 @@ TEST(Xdmf, ReadBackByXdmf3ShowsEverySavedStepOnTheGrid) {
     const auto g = coll->getRegularGrid(k);
     const std::size_t step = 4 * k;
     EXPECT_DOUBLE_EQ(g->getTime()->getValue(), ts.rows[step][col("time")]);
-    // Node counts, origin at the corner of the domain, spacing grid.length / n: (y, x) order.
+    // Node counts in (z, y, x) order: one node at z = 0, the grid's cells in y and x; origin
+    // at the corner of the domain, spacing grid.length / n.
     const auto dims = g->getDimensions(), origin = g->getOrigin(), brick = g->getBrickSize();
-    ASSERT_EQ(dims->getSize(), 2u);
-    EXPECT_EQ(dims->getValue<unsigned>(0), 17u);
+    ASSERT_EQ(dims->getSize(), 3u);
+    EXPECT_EQ(dims->getValue<unsigned>(0), 1u);
     EXPECT_EQ(dims->getValue<unsigned>(1), 17u);
-    for (unsigned a = 0; a < 2; ++a) {
-      EXPECT_NEAR(origin->getValue<double>(a), -L / 2, 1e-15 * L);
-      EXPECT_NEAR(brick->getValue<double>(a), h, 1e-15 * h);
-    }
+    EXPECT_EQ(dims->getValue<unsigned>(2), 17u);
+    EXPECT_EQ(origin->getValue<double>(0), 0.0);
+    for (unsigned a = 0; a < 3; ++a) EXPECT_NEAR(brick->getValue<double>(a), h, 1e-15 * h);
+    for (unsigned a = 1; a < 3; ++a) EXPECT_NEAR(origin->getValue<double>(a), -L / 2, 1e-15 * L);
     for (const char* name : {"pressure", "state", "slip_x", "surface_initial"}) {
       const auto a = g->getAttribute(name);
       ASSERT_TRUE(a) << name;
@@ -119,5 +120,27 @@ TEST(Xdmf, ResumedRunDescribesTheStepsOfBothParts) {
                             .c_str()),
             0);
   EXPECT_EQ(read_collection(dir / "result.xmf")->getNumberRegularGrids(), 5u);
+  fs::remove_all(dir);
+}
+
+// Without output.fields_every a run saves step 0 (the state after the normal loading), the
+// turning points and the last step; step 0's pressure carries the scenario's normal force.
+TEST(Xdmf, PlainRunSavesStepZeroTurningPointsAndTheLastStep) {
+  const std::vector<std::string> sets(kSets.begin(), kSets.end() - 1);  // no fields_every
+  const fs::path dir = run_small("plain", sets);
+  const Scenario sc = load_scenario(kScenario, sets);
+  const double h = sc.grid.h;
+  const auto coll = read_collection(dir / "result.xmf");
+  // 16 steps per cycle: turning points at 4 and 12 (the force's extremes), the last at 16.
+  ASSERT_EQ(coll->getNumberRegularGrids(), 4u);
+  const double times[4] = {0.0, 4 / 16.0, 12 / 16.0, 1.0};
+  for (unsigned k = 0; k < 4; ++k)
+    EXPECT_NEAR(coll->getRegularGrid(k)->getTime()->getValue(), times[k], 1e-12) << k;
+  const auto p = coll->getRegularGrid(0)->getAttribute("pressure");
+  ASSERT_TRUE(p);
+  p->read();
+  double force = 0;
+  for (unsigned c = 0; c < p->getSize(); ++c) force += p->getValue<double>(c) * h * h;
+  EXPECT_NEAR(force, *sc.load.normal_force, 1e-9 * *sc.load.normal_force);
   fs::remove_all(dir);
 }

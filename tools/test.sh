@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Install what is missing, build every target, run the test suite. Extra arguments go to ctest
 # (e.g. tools/test.sh -R half_space); the exit status is ctest's.
+# FRETBEM_WITH_PARAVIEW=1 also installs Debian's ParaView and Xvfb (~950 MB, ~8 min measured),
+# so that the test paraview_xmf runs instead of being skipped.
 #
 #   tools/test.sh --sanitize [CTEST ARGS]   the same in build-sanitize/ with AddressSanitizer
 #       and UndefinedBehaviorSanitizer (clang-14 when installed, which also traps overflowing
@@ -20,7 +22,9 @@ fi
 # The plotting packages are installed too: the suite tests the plot tools with them (and the
 # optional list carries clang-14 for the sanitized build); and OpenMPI, so that the MPI sweep
 # tests run (docs/cluster.md).
-fretbem_install_dependencies --with-optional --with-mpi
+paraview=()
+[[ "${FRETBEM_WITH_PARAVIEW:-0}" == 1 ]] && paraview=(--with-paraview)
+fretbem_install_dependencies --with-optional --with-mpi "${paraview[@]}"
 
 if [[ $sanitize == 1 ]]; then
   FRETBEM_BUILD_DIR=build-sanitize

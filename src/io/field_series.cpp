@@ -17,9 +17,6 @@ namespace {
 
 using hdf5::checked;
 
-// Steps per chunk of the index and time coordinates.
-constexpr hsize_t kIndexChunk = 256;
-
 std::string group_name(const StepFamily& family, std::int64_t index) {
   char num[32];
   std::snprintf(num, sizeof num, "%06lld", static_cast<long long>(index));
@@ -30,18 +27,6 @@ hdf5::Plist intermediate_groups(const std::string& what) {
   hdf5::Plist lcpl(checked(H5Pcreate(H5P_LINK_CREATE), what, "create a property list"));
   checked(H5Pset_create_intermediate_group(lcpl.get(), 1), what, "set up group creation");
   return lcpl;
-}
-
-// A 1-D dataset over the saved steps, empty and extendible.
-hdf5::Dataset create_axis(hid_t series, const std::string& name, hid_t type,
-                          const std::string& what) {
-  const hsize_t dims = 0, maxdims = H5S_UNLIMITED;
-  hdf5::Space space(checked(H5Screate_simple(1, &dims, &maxdims), what, "create a dataspace"));
-  hdf5::Plist dcpl(checked(H5Pcreate(H5P_DATASET_CREATE), what, "create a property list"));
-  checked(H5Pset_chunk(dcpl.get(), 1, &kIndexChunk), what, "set the chunk size");
-  return hdf5::Dataset(checked(
-      H5Dcreate2(series, name.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
-      what, "create " + name));
 }
 
 // The series group with its coordinates: x, y and the empty index and time axes.
@@ -57,11 +42,11 @@ hdf5::Group open_series(hid_t file, const StepFamily& family, const GridCoordina
     write_coordinate(g.get(), "x", grid.x, what);
     write_coordinate(g.get(), "y", grid.y, what);
   }
-  const hdf5::Dataset index = create_axis(g.get(), family.index, H5T_STD_I64LE, what);
+  const hdf5::Dataset index = create_extendible_vector(g.get(), family.index, H5T_STD_I64LE, what);
   checked(H5DSset_scale(index.get(), family.index.c_str()), what, "make a dimension scale");
   write_string_attribute(index.get(), "units", "1", what);
   write_string_attribute(index.get(), "long_name", "saved " + family.index, what);
-  const hdf5::Dataset time = create_axis(g.get(), family.time, H5T_IEEE_F64LE, what);
+  const hdf5::Dataset time = create_extendible_vector(g.get(), family.time, H5T_IEEE_F64LE, what);
   checked(H5DSattach_scale(time.get(), index.get(), 0), what, "attach " + family.index);
   write_string_attribute(time.get(), "units", "1", what);
   write_string_attribute(time.get(), "long_name", family.time_name, what);

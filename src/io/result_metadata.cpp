@@ -72,6 +72,19 @@ void write_coordinate(hid_t loc, const char* name, const std::vector<double>& c,
   write_string_attribute(d.get(), "long_name", "cell centre " + axis + " coordinate", what);
 }
 
+hdf5::Dataset create_extendible_vector(hid_t loc, const std::string& name, hid_t type,
+                                       const std::string& what) {
+  // 64 entries (512 B) per chunk: a run appends one entry per saved step or row, and a file
+  // holds ~30 of these vectors from its first row on.
+  const hsize_t dims = 0, maxdims = H5S_UNLIMITED, chunk = 64;
+  hdf5::Space space(checked(H5Screate_simple(1, &dims, &maxdims), what, "create a dataspace"));
+  hdf5::Plist dcpl(checked(H5Pcreate(H5P_DATASET_CREATE), what, "create a property list"));
+  checked(H5Pset_chunk(dcpl.get(), 1, &chunk), what, "set the chunk size");
+  return hdf5::Dataset(checked(
+      H5Dcreate2(loc, name.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT), what,
+      "create " + name));
+}
+
 bool worth_compressing(hsize_t chunk_values) {
   return chunk_values >= 4096 && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0;
 }
@@ -134,7 +147,8 @@ void write_file_attributes(hid_t file, const Grid& g, const std::filesystem::pat
   write_string_attribute(r, "program_version", FRETBEM_VERSION, what);
   write_string_attribute(r, "format", format, what);
   write_int(r, "format_version", kResultFormatVersion, what);
-  write_doubles(r, "grid_shape", {double(g.ny), double(g.nx)}, what);
+  const std::int64_t shape[2] = {g.ny, g.nx};
+  write_attribute(r, "grid_shape", H5T_STD_I64LE, H5T_NATIVE_INT64, shape, 2, what);
   write_doubles(r, "grid_spacing", {g.h, g.h}, what);
   write_doubles(r, "grid_origin", {g.y(0), g.x(0)}, what);
   write_doubles(r, "grid_length", {g.length_y(), g.length_x()}, what);

@@ -124,12 +124,15 @@ void ResultFile::on_step(const StepRecord& rec, const InterfaceState& s, const M
   last_step_ = rec.step, last_time_ = rec.time;
   const auto& out = m.scenario.output;
   const bool every = out.fields_every > 0 && rec.step % out.fields_every == 0;
+  // Step 0 (the state after the normal loading; a wear run's row 0) is where every map of
+  // the history starts.
+  const bool first = rec.step == 0;
   if (m.wear) {
-    if (rec.step == 0 || every) save_fields(s, m);
+    if (first || every) save_fields(s, m);
     return;
   }
   const bool last = std::size_t(rec.step) + 1 == m.path.steps.size();
-  if (every || rec.turning || last) save_fields(s, m);
+  if (first || every || rec.turning || last) save_fields(s, m);
 }
 
 void ResultFile::save_fields(const InterfaceState& s, const Model& m) {

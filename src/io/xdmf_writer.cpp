@@ -126,21 +126,26 @@ std::string pair(const std::array<double, 2>& v) {
   return format_number(v[0]) + " " + format_number(v[1]);
 }
 
+// The map is a 3DCoRectMesh one node thick in z, at z = 0: ParaView 5.11 puts a 2DCoRectMesh
+// in its y-z plane (fretbem's x along its Y), edge-on to its default view, which looks down z.
+// Flat in z, ParaView's Xdmf3 readers give a 2-D image in the x-y plane, which its default
+// view shows as a map; a slab one cell thick would show as an outline. (ParaView's legacy
+// Xdmf2 "XDMF Reader" counts no cells in a mesh one node thick.) Values slowest axis first:
+// z, y, x.
 void write_step(std::ostream& o, const Step& st, const Mesh& m, const std::string& h5name) {
   const long ny = long(m.shape[0]), nx = long(m.shape[1]);
+  const double dz = m.spacing[1];  // unused by a mesh one node thick; readers want dz > 0
   o << "      <Grid Name=\"" << xml_escape(st.name) << "\" GridType=\"Uniform\">\n"
-    << "        <Time Value=\"" << format_number(st.time)
+    << "        <Time Value=\"" << format_number(st.time) << "\"/>\n"
+    << "        <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"1 " << ny + 1 << " " << nx + 1
     << "\"/>\n"
-    // Node counts (cells + 1), slowest axis first: y then x.
-    << "        <Topology TopologyType=\"2DCoRectMesh\" Dimensions=\"" << ny + 1 << " " << nx + 1
-    << "\"/>\n"
-    << "        <Geometry GeometryType=\"ORIGIN_DXDY\">\n"
+    << "        <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n"
     << "          <DataItem Format=\"XML\" NumberType=\"Float\" Precision=\"8\" "
-       "Dimensions=\"2\">"
-    << pair(m.origin) << "</DataItem>\n"
+       "Dimensions=\"3\">"
+    << "0 " << pair(m.origin) << "</DataItem>\n"
     << "          <DataItem Format=\"XML\" NumberType=\"Float\" Precision=\"8\" "
-       "Dimensions=\"2\">"
-    << pair(m.spacing) << "</DataItem>\n"
+       "Dimensions=\"3\">"
+    << format_number(dz) << " " << pair(m.spacing) << "</DataItem>\n"
     << "        </Geometry>\n";
   for (const auto& it : st.items) {
     if (long(it.dims[0]) != ny || long(it.dims[1]) != nx) continue;  // not on the grid

@@ -11,15 +11,18 @@
 #include <string>
 #include <vector>
 
+#include "fretbem/core/hdf5.hpp"
 #include "fretbem/elastic/grid.hpp"
 
 namespace fretbem::io {
 
 /// Format of result.h5: 1 = the unlabelled layout (float64 `state`); 2 = attributes, units,
 /// dimension scales, uint8 `state`; 3 = saved steps stacked per field in /series (the step
-/// groups' fields are views of them, with their own x and y scales; field_series.hpp).
-/// Readers that only read datasets by their paths work with all three.
-constexpr int kResultFormatVersion = 3;
+/// groups' fields are views of them, with their own x and y scales; field_series.hpp);
+/// 4 = integer `grid_shape`, the time series also as one variable per column in
+/// /series/timeseries (column_series.hpp). Readers that only read datasets by their paths
+/// work with all four.
+constexpr int kResultFormatVersion = 4;
 
 /// How a saved 2-D field is described: its units (SI, UDUNITS spelling) and a long name.
 /// `flag` fields (state) are stored as uint8 with CF `flag_values` / `flag_meanings`.
@@ -52,7 +55,7 @@ std::string column_units(const std::string& column);
 inline constexpr const char* kStateMeanings = "open stick slip";
 
 /// Writes (or replaces) the attributes on the file's root group: program, program_version,
-/// format, format_version, grid_shape {ny, nx}, grid_spacing {dy, dx} (m), grid_origin
+/// format, format_version, grid_shape {ny, nx} (int64), grid_spacing {dy, dx} (m), grid_origin
 /// {y0, x0} (m, centre of cell (0, 0)), grid_length {ly, lx} (m), periodic (0/1),
 /// array_layout, cell_centred, output_dir. Pairs are in dataset axis order (y, x).
 /// Throws std::runtime_error naming `what` (the file) on an HDF5 failure.
@@ -69,6 +72,11 @@ std::vector<double> cell_centres(int n, double h);
 /// scale named after its last path component ("x", "y"), unless it exists.
 void write_coordinate(hid_t loc, const char* name, const std::vector<double>& centres,
                       const std::string& what);
+
+/// Creates the empty 1-D dataset `name` under `loc`, extendible without limit along its one
+/// axis (the saved steps, the time-series rows), chunked by 64 entries.
+hdf5::Dataset create_extendible_vector(hid_t loc, const std::string& name, hid_t type,
+                                       const std::string& what);
 
 /// Writes a field's `units`, `long_name` and, for flag fields, `flag_values` and
 /// `flag_meanings` (dataset_name: its last path component).

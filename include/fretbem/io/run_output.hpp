@@ -26,7 +26,8 @@ class TimeseriesCsv final : public Observer {
 };
 
 /// DIR/result.h5: resolved scenario, initial and final surface, time series, and the fields
-/// of output.fields every output.fields_every steps, at turning points and at the last step;
+/// of output.fields at step 0, every output.fields_every steps, at turning points and at the
+/// last step;
 /// self-describing (Hdf5Writer::describe) with an XDMF sidecar (write_xdmf). In a wear run the
 /// rows are the simulated cycles' steps, thousands of them: there it saves only row 0 and
 /// every output.fields_every rows itself, and the wear driver adds the states it can place
