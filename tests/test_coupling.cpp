@@ -1,4 +1,4 @@
-// Normal-tangential coupling of dissimilar bodies (issue 17 §5, solver.coupling = coupled):
+// Normal-tangential coupling of dissimilar bodies (solver.coupling = coupled):
 // the cross influence coefficients against quadrature, Boussinesq's radial displacement and
 // reciprocity; beta = 0 reproducing Cerruti bit for bit; the bodies' exchange flipping beta and
 // the coupled shear; the energy of a loop; a non-converging step named.
@@ -101,8 +101,8 @@ TEST(CrossKernel, CellIntegralMatchesQuadrature) {
   EXPECT_NEAR(love::Jx(x, y, a, b), 4 * a * b * x / (x * x + y * y), 1e-6 * x / (x * x + y * y));
 }
 
-// Dundurs' beta of the pair: the rigid-indenter value (1 - 2 nu)/(2 (1 - nu)) (issue 17 §5:
-// 0.29 at nu = 0.3), zero for identical bodies exactly, the sign flipped by exchanging the
+// Dundurs' beta of the pair: the rigid-indenter value (1 - 2 nu)/(2 (1 - nu)) (0.29 at
+// nu = 0.3), zero for identical bodies exactly, the sign flipped by exchanging the
 // bodies, which leaves E*, G* and the Cerruti weights unchanged.
 TEST(CrossKernel, DundursBeta) {
   Material rigid;

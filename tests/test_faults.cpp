@@ -1,4 +1,4 @@
-// Fault tests (issue 14): a full disk, SIGKILL at random points, corrupted checkpoints,
+// Fault tests: a full disk, SIGKILL at random points, corrupted checkpoints,
 // outputs that do not belong to the checkpoint, a second run into the same --out, and
 // determinism of timeseries.csv. After each fault the last good checkpoint is intact and
 // --resume gives the uninterrupted run's rows (docs/reliability.md, "Fault tests").
@@ -630,7 +630,7 @@ TEST_F(Faults, SecondRunIntoSameOutNeedsOverwrite) {
             0);
 }
 
-// Small CLI refusals of issue 14 item 13.
+// Small CLI refusals: an empty --out, and --out beside --resume.
 TEST_F(Faults, OutOptionsAreChecked) {
   EXPECT_EQ(run("run " + kScenario + " --quiet --out \"\"", dir_).code, 2);
   const fs::path d = dir_ / "r";
@@ -643,7 +643,7 @@ TEST_F(Faults, OutOptionsAreChecked) {
   EXPECT_NE(r.err.find("--out"), std::string::npos) << r.err;
 }
 
-// Two runs into one --out at once (issue 14 session 4: the second truncated the first's
+// Two runs into one --out at once (without the lock the second would truncate the first's
 // timeseries.csv): while one process holds the folder's lock, a run and a resume into it are
 // refused naming the folder, and nothing in it is touched; after release both go ahead.
 TEST_F(Faults, ConcurrentRunsIntoOneOutAreRefused) {
@@ -683,7 +683,7 @@ TEST_F(Faults, EnsembleRefusesDuplicateHurstAndHugeBins) {
   EXPECT_FALSE(fs::exists(dir_ / "e" / "aggregate.csv"));
 }
 
-// SIGTERM to the ensemble parent (issue 14 item 10): the running member ends, no further one
+// SIGTERM to the ensemble parent: the running member ends, no further one
 // starts, the finished ones are kept in members.csv and aggregate.csv, exit 143.
 TEST_F(Faults, EnsembleSigtermKeepsFinishedMembers) {
   const fs::path out = dir_ / "e";
@@ -719,7 +719,7 @@ TEST_F(Faults, EnsembleSigtermKeepsFinishedMembers) {
   EXPECT_NE(slurp(dir_ / "ensemble.err").find("stopped by a signal"), std::string::npos);
 }
 
-// Table runs (issue 14 item 13): `cycle` is the integer part of time, negative times too;
+// Table runs: `cycle` is the integer part of time, negative times too;
 // cycles.csv has a row per cycle also before time 0 (it was empty); a cycle without a
 // minimum turning point reports kx at its smallest F_x (it reported 0).
 TEST_F(Faults, TableCyclesFollowTime) {
@@ -756,7 +756,7 @@ TEST_F(Faults, TableCyclesFollowTime) {
 }
 
 // Step counts that pass the key ranges but cannot fit in memory are refused by `check` and
-// `run` with the key named (issue 14 item 9: load.steps = 2^30 ended in bad_alloc).
+// `run` with the key named (load.steps = 2^30 must not end in bad_alloc).
 TEST_F(Faults, HugeStepCountsAreRefused) {
   for (const std::string cmd : {"check ", "run "}) {
     const Result r =

@@ -1,4 +1,4 @@
-// History physics (issue 17): second-order dissipation under a varying normal load, stick areas
+// History physics: second-order dissipation under a varying normal load, stick areas
 // that depend on the state and not on the history.
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -413,7 +413,7 @@ stiffness = false
 
 }  // namespace
 
-// Issue 14, item 6: a force of exactly mu F_z (bound force sum g h^2 computed from the solved
+// A force of exactly mu F_z (bound force sum g h^2 computed from the solved
 // pressure, equal up to round-off) is full sliding and refused with the documented message,
 // as a force beyond it is; just below, the force is reached.
 TEST(GrossSliding, ExactlyMuFzIsRefusedLikeMore) {
@@ -436,8 +436,8 @@ TEST(GrossSliding, ExactlyMuFzIsRefusedLikeMore) {
   EXPECT_NEAR(r.force(0), 0.999 * fmax, 1e-9 * fmax);
 }
 
-// Issue 14, item 7: solver.algorithm = partition with solver.coupling = cerruti ran out of
-// iterations (each option alone worked). Now every step converges and the loop equals the
+// solver.algorithm = partition with solver.coupling = cerruti (each option alone is tested
+// elsewhere): every step converges and the loop equals the
 // projected method's with Cerruti (the same strictly convex QP per step) to 1e-6 of mu F_z.
 TEST(Partition, WithCerrutiConvergesToTheProjectedLoop) {
   const std::string base = kMindlin32;
@@ -450,7 +450,7 @@ TEST(Partition, WithCerrutiConvergesToTheProjectedLoop) {
   }
 }
 
-// Issue 18: the partition algorithm under Cerruti's x-y coupling, alone (no fallback): a
+// The partition algorithm under Cerruti's x-y coupling, alone (no fallback): a
 // force-controlled loop 0 -> +0.6 -> -0.6 -> +0.6 mu F_z at 20 degrees on the Hertz contact
 // (n = 32, nu = 0.3 and 0.45) converges in every increment and gives the projected method's
 // tractions (the same strictly convex QP) to 1e-6. Before the line-searched slip-node step the

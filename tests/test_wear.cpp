@@ -1,5 +1,5 @@
-// Wear (DESIGN §3 rung 8; issue 6): bookkeeping of the laws, partial-slip shakedown, gross-slip
-// wear, integrators against the cycle-by-cycle reference.
+// Wear (docs/architecture.md, validation ladder rung 8): bookkeeping of the laws, partial-slip
+// shakedown, gross-slip wear, integrators against the cycle-by-cycle reference.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -365,8 +365,8 @@ TEST(WearGrossSlip, WholeContactWearsVolumeLinear) {
       hist.back().contact_radius, hist.front().peak_pressure, hist.back().peak_pressure);
 }
 
-// Without wear.atol the absolute tolerance is rtol x the indentation of the unworn surface
-// (issue 12): the same run as with that value given in metres (the indentation is the first
+// Without wear.atol the absolute tolerance is rtol x the indentation of the unworn surface:
+// the same run as with that value given in metres (the indentation is the first
 // row's delta at constant normal force), to the bit.
 TEST(WearIntegrators, DefaultAbsoluteToleranceIsRtolTimesIndentation) {
   std::string text = partial_slip(32, 2e-12, 300, "dirk");

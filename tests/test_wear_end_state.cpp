@@ -1,5 +1,5 @@
 // The end state of partial-slip fretting wear at constant normal force over the range a user
-// can type (issue 12): amplitudes 0.3–0.9 mu P, wear coefficients 100x apart, Archard and
+// can type: amplitudes 0.3–0.9 mu P, wear coefficients 100x apart, Archard and
 // energy laws, implicit and explicit integrators. Closed form (Popov, Sci. Rep. 4:3749, 2014):
 // the stick disc r < c = a (1 - Q/mu P)^(1/3) (Cattaneo–Mindlin) is never worn, the annulus
 // wears until it carries no load, and the unworn sphere in contact over the disc c carries

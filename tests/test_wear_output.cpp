@@ -1,4 +1,4 @@
-// Wear-run outputs through the command line (issue 6): cycles.csv (one row per simulated
+// Wear-run outputs through the command line: cycles.csv (one row per simulated
 // cycle, `accepted` marking the integrator's solution), wear of both bodies
 // (wear.indenter_share), checkpoints, --stop-after and --resume.
 #include <gtest/gtest.h>
@@ -280,7 +280,7 @@ TEST(WearResume, ErkStopAndResumeWithinTolerance) {
   }
   EXPECT_EQ(prev, 300.0);
   // The resumed run's rows are the uninterrupted run's, the first row after the resume (the
-  // state of the checkpoint) accepted as it is there (issue 14 item 11: it was 0).
+  // state of the checkpoint) accepted as it is there.
   const Csv a = read_csv(full / "cycles.csv");
   ASSERT_EQ(a.rows.size(), b.rows.size());
   for (std::size_t k = 0; k < a.rows.size(); ++k) {

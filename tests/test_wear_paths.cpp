@@ -1,4 +1,4 @@
-// Wear on any periodic path (issue 12): a table holding one period, with a varying normal load,
+// Wear on any periodic path: a table holding one period, with a varying normal load,
 // and sine paths in any direction of the plane.
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -1,4 +1,4 @@
-// WearPreconditioner (the frozen-slip Newton matrix of the implicit wear integrator, issue 6)
+// WearPreconditioner (the frozen-slip Newton matrix of the implicit wear integrator)
 // against its definition: P x = b checked by applying P with dense linear algebra.
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // Stepper::coupled_step: one load step with the normal-tangential coupling of dissimilar bodies
-// (solver.coupling = coupled, Dundurs beta != 0; issue 17 §5). Tractions change the normal
+// (solver.coupling = coupled, Dundurs beta != 0). Tractions change the normal
 // approach (Cerruti) and the pressure moves the surfaces tangentially (Boussinesq), so the
 // normal and tangential problems of a step are solved alternately, each with the other's
 // latest solution frozen (block Gauss-Seidel, as CONTACT's Panagiotopoulos process; Kalker,

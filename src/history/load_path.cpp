@@ -43,7 +43,7 @@ std::vector<double> sine_times(int cycles, int spc) {
 }
 
 // Peak memory per generated load step: 2e6 sine steps made `fretbem check` peak at 333 MB
-// (/usr/bin/time, issue 14 item 9), about 160 bytes a step; 200 leaves a margin.
+// (/usr/bin/time), about 160 bytes a step; 200 leaves a margin.
 constexpr double kBytesPerStep = 200.0;
 
 // Refuses a ramp or sine path whose steps would not fit in half the physical memory (the

@@ -90,7 +90,7 @@ LoadPath read_load_table(const std::filesystem::path& file, const LoadSpec& spec
       throw InputError(file.string() + ":" + std::to_string(lines[k]) +
                        ": the normal load must be positive");
     const Vec2 target = disp ? Vec2(col("Ux", k), col("Uy", k)) : Vec2(col("Fx", k), col("Fy", k));
-    // `cycle` is the integer part of time, as for a sine (issue 14 item 13: 0 on every row).
+    // `cycle` is the integer part of time, as for a sine (0 on every row).
     if (k == 0)
       path.steps.push_back(
           {t[0], cycle_of_time(t[0]), normal, control, Vec2::Zero(), false, false});

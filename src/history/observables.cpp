@@ -98,7 +98,7 @@ void measure_areas(const InterfaceState& s, const TangentialOperator& op, StepRe
     ++stick, at_bound += st == NodeState::stuck_at_bound;
     fstick += s.traction[0](k);
   }
-  // Stick: did not slip in this step, inside the bound or on it (issue 17 §2).
+  // Stick: did not slip in this step, inside the bound or on it.
   r.stick_area = double(stick) * a;
   r.stuck_at_bound_area = double(at_bound) * a;
   r.slip_ring_cells = slip_ring_cells(s.state);

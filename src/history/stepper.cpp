@@ -246,7 +246,7 @@ void Stepper::shortcut_step(const LoadStep& ls, StepRecord& rec) {
   NormalSolver& ns = *model_.normal;
   // The previous step's corrective pressure p* = p - |tau| / mu warm-starts this one: on the
   // monotone segment Q* changes by one increment (from p itself the solve starts a whole
-  // segment away: why the shortcut was slower than incremental steps, issue 13).
+  // segment away, slower than incremental steps).
   const Field p_star0 = (state_.pressure - state_.traction[0].abs() / mat.mu).max(0.0);
   const ShortcutResult r =
       ls.control == Control::force
@@ -267,7 +267,7 @@ void Stepper::shortcut_step(const LoadStep& ls, StepRecord& rec) {
 }
 
 // Slip increment s = dU - (u - u0) per slip node (stick nodes do not slip: what the solver
-// leaves there is its residual); the node states of the step follow from it (issue 17 §2).
+// leaves there is its residual); the node states of the step follow from it.
 // The work of the step and the wear take one quadrature of the bound along the slip
 // (contact/step_work.hpp): exact, g1 |s|, while the bound stays put; second order when it
 // moves (a varying normal load: the nodal dissipation converges to the F-U loop area at ~4x

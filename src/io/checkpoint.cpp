@@ -471,7 +471,7 @@ void Checkpointer::on_step(const StepRecord& rec, const InterfaceState&, const M
   const bool last = std::size_t(rec.step) + 1 == model.path.steps.size();
   const bool due = every_ > 0 ? (rec.step + 1) % every_ == 0 : since >= 10.0;
   // Turning points are natural restart points, but a table that reverses every few rows
-  // would checkpoint every step (issue 14 item 13: 10 002 checkpoints, 4.4x the run time):
+  // would checkpoint every step (10 002 checkpoints, 4.4x the run time):
   // at most one turning-point checkpoint per second.
   const bool turning = rec.turning && since >= 1.0;
   if (!(due || turning || last)) return;

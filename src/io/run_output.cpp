@@ -21,7 +21,7 @@ Field global_component(const VecField& v, const TangentialOperator& op, int c) {
   return v[0] * (c == 0 ? op.direction().x() : op.direction().y());
 }
 
-// 0 open, 1 stick, 2 slip (DESIGN §4): stuck-at-bound nodes did not slip, so they are stick.
+// 0 open, 1 stick, 2 slip (README): stuck-at-bound nodes did not slip, so they are stick.
 Field state_field(const StateField& state) {
   const StateField at_bound =
       StateField::Constant(state.rows(), state.cols(), std::uint8_t(NodeState::stuck_at_bound));

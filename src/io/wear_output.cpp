@@ -24,7 +24,7 @@ std::string simulated_count(double simulated) {
   return format_count(std::round(simulated * 1e6) / 1e6);
 }
 
-// DIR/cycles.csv of a wear run: one row per simulated cycle (issue 6), then the bookkeeping
+// DIR/cycles.csv of a wear run: one row per simulated cycle, then the bookkeeping
 // columns; the per-body volumes split wear_volume by wear.indenter_share.
 const std::vector<std::string>& wear_columns() {
   static const std::vector<std::string> c{"N",
@@ -163,7 +163,7 @@ WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume, long max
         "fretbem: implicit wear steps: %ld Newton iterations (%ld convergence failures), %ld "
         "Krylov iterations, %ld inner CG iterations\n",
         rep.newton_iterations, rep.newton_failures, rep.krylov_iterations, rep.inner_iterations);
-  // The summary is printed with --quiet too: it silences progress, not results (issue 19).
+  // The summary is printed with --quiet too: it silences progress, not results.
   {
     const double V = rep.worn.sum() * model.scenario.grid.cell_area();
     const double s = model.scenario.wear.indenter_share;

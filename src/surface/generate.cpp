@@ -1,5 +1,5 @@
-// Surface generation: spheres, flat punches and self-affine random roughness (DESIGN §1
-// "Rough surfaces").
+// Surface generation: spheres, flat punches and self-affine random roughness (README, the
+// `surface.*` keys).
 #include "fretbem/surface/generate.hpp"
 
 #include <cmath>

@@ -14,7 +14,8 @@ namespace {
 // The steps after st[0] that a simulation needs: steps inside a monotone segment at constant
 // normal load are dropped, since there the incremental solution does not depend on the step
 // size and each node slips one way (Ciavarella–Jäger), so sum |s| over the segment is exact in
-// one step (DESIGN §2 "one big increment"). A sine period keeps its turning points and end.
+// one step (docs/architecture.md: one big increment on a monotone segment). A sine period
+// keeps its turning points and end.
 std::vector<LoadStep> merged(const std::vector<LoadStep>& st) {
   LoadPath p{st};
   std::vector<LoadStep> out;
@@ -147,8 +148,8 @@ void WearCycles::fresh(const Field& worn) {
   model_.surface = model_.surface0 - worn;
   // The normal solve starts cold (zero pressure): a warm start from another surface's
   // pressure made the wear map depend on the evaluation order, and from a worn conforming
-  // annulus (thousands of nodes at p < 1e-3 p_max) it stalled Polonsky–Keer (issue 12,
-  // measurement 2).
+  // annulus (thousands of nodes at p < 1e-3 p_max) it stalled Polonsky–Keer
+  // (docs/wear.md, "Normal solves on worn surfaces").
   InterfaceState s = InterfaceState::zeros(*model_.tangential_operator);
   s.wear = worn;
   StepperMemory m = stepper_.memory();
@@ -241,7 +242,7 @@ Field WearCycles::pressure_on(const Field& worn) {
 void WearCycles::apply(const Field& rate) {
   // The next cycle's normal solve is warm-started from this cycle's pressure (the tractions
   // are carried): the normal solver restarts itself when nodes leave contact in bulk and falls
-  // back to a cold start on stagnation (issue 12, measurement 2).
+  // back to a cold start on stagnation.
   model_.surface -= rate;
   stepper_.surface_changed();
 }

@@ -329,7 +329,7 @@ struct Integrator {
   }
 };
 
-// A failed ARKODE call as one line a user can act on (issue 14 item 12: "ARKODE step failed
+// A failed ARKODE call as one line a user can act on ("ARKODE step failed
 // (flag -22)" named nothing): the call, the wear cycle N when known, SUNDIALS' name of the
 // flag, and the keys that steer the integrator.
 void check(int flag, const char* what, double N = -1.0) {
@@ -347,9 +347,9 @@ void check(int flag, const char* what, double N = -1.0) {
 // Implicit method: TR-BDF2 (ARKODE_TRBDF2_3_3_2): an ESDIRK of order 2 with an explicit first
 // stage (the wear map at the accepted state, which is that state's row), L-stable and stiffly
 // accurate (its solution is its last stage, R(inf) = 0), with an embedded order-3 error
-// estimate. SDIRK-2-1-2 (the previous choice) has R(inf) = -1/2 and a backward-Euler embedding
-// whose error estimate is a newly touching node's whole depth in ~10 % of steps (issue 12,
-// measurement 3). Measured on issue 12's sphere (n = 64, to N = 5e4, the same tolerances and
+// estimate. SDIRK-2-1-2 has R(inf) = -1/2 and a backward-Euler embedding
+// whose error estimate is a newly touching node's whole depth in ~10 % of steps.
+// Measured on a partial-slip sphere (n = 64, to N = 5e4, the same tolerances and
 // cost guard): TR-BDF2 682 simulated cycles to the end state; SDIRK-2-1-2 ~800 by N ~ 4000;
 // ESDIRK ARK324L2SA (order 3) 1123 by N ~ 4450 (docs/wear.md). The wear map is only piecewise
 // smooth (contact nodes enter the worn annulus in groups), so order 2 is enough.
@@ -428,7 +428,7 @@ void flush_step(WearReport& rep, std::size_t first, WearLog* log, double t0, std
 // The absolute tolerance on W (m): wear.atol when given (expert override), else rtol times the
 // indentation of the unworn surface. A fixed metre value carried over from another scenario
 // let nodes that just came into contact (W ~ 1e-10 m) set the step: 5757 simulated cycles to
-// N = 5e4 at n = 64 in issue 12; the indentation is the depth scale of the end state (Popov:
+// N = 5e4 at n = 64; the indentation is the depth scale of the end state (Popov:
 // d_inf - d_0 is a fraction of d_0) and of gross-slip wear per integrator step.
 // A given atol is held to wear.rtol's range relative to that depth scale (it is known only
 // after the first normal solve, so `check` cannot refuse it).
@@ -505,7 +505,7 @@ WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegr
   d.atol = absolute_tolerance(model, cyc);
   // The state whose accepted row is out. A checkpoint is written before the state it holds
   // has a row (its row is the first evaluation of the next step), so a resumed run starts
-  // with none (issue 14 item 11: the resume row was written with accepted = 0).
+  // with none (a resume row written with accepted = 0 would hide an accepted state).
   std::pair<double, std::uint64_t> last =
       resume ? std::pair{-1.0, std::uint64_t(0)} : std::pair{t, fingerprint(Wy())};
   // The cap of the unworn surface decides arkode's method; a resumed run keeps that choice.

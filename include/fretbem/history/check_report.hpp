@@ -1,4 +1,4 @@
-// What `fretbem check` prints about a prepared model (issue 19, "fretbem check"): the moduli,
+// What `fretbem check` prints about a prepared model ("fretbem check"): the moduli,
 // the Hertz scales of a sphere, the full-sliding shift, steps and memory, and wear's horizon.
 // Warnings (ignored keys, the input checks' cautions) go to stderr, as `run` prints them.
 #pragma once

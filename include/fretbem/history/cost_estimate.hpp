@@ -1,4 +1,4 @@
-// What a run will cost, before it runs (`fretbem check`, issue 19): the first steps of the
+// What a run will cost, before it runs (`fretbem check`): the first steps of the
 // load path are solved at the scenario's grid (a calibration), their FFT convolutions per step
 // and CPU seconds per convolution are extrapolated to the whole path. Measured accuracy:
 // docs/reliability.md ("Accuracy of check's cost estimate").

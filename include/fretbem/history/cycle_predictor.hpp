@@ -1,5 +1,5 @@
 // CyclePredictor: the converged tangential tractions of recent steps, offered as the start of
-// the same step one load cycle later (solver.predictor, issue 13).
+// the same step one load cycle later (solver.predictor).
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// LoadPath: the scripted load history as a list of steps (DESIGN §4 "Path semantics").
+// LoadPath: the scripted load history as a list of steps (README "Path semantics").
 #pragma once
 
 #include <filesystem>

@@ -1,5 +1,5 @@
 // Model: everything a run needs, built once from a validated Scenario — grid, material,
-// surface, half-space operator and the solvers on it (DESIGN §2).
+// surface, half-space operator and the solvers on it (docs/architecture.md).
 #pragma once
 
 #include <memory>

@@ -1,4 +1,4 @@
-// Observables: the per-step scalars of the time series (DESIGN §4 "Time series").
+// Observables: the per-step scalars of the time series (README "Time series").
 #pragma once
 
 #include <string>
@@ -32,7 +32,7 @@ struct StepRecord {
   int coupling_iterations = 0;
   double coupling_residual = 0;
 
-  /// Column names, in the order of values(); the first 18 are the DESIGN §4 contract.
+  /// Column names, in the order of values(); the first 18 are the README contract.
   static const std::vector<std::string>& columns();
   std::vector<double> values() const;
   /// Inverse of values() (a row read back from timeseries.csv).

@@ -1,7 +1,6 @@
 // Pre-flight checks: every refusal a run makes before its first solve that ties several keys,
 // the load path and the surface together. `fretbem check` and `fretbem run` both go through
-// prepare_model (model.hpp), which calls these, so check refuses exactly what run refuses
-// (issue 14, item 8).
+// prepare_model (model.hpp), which calls these, so check refuses exactly what run refuses.
 #pragma once
 
 #include "fretbem/history/load_path.hpp"

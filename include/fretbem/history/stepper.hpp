@@ -1,6 +1,6 @@
 // Stepper: walks the load path. Per step: normal solve (only when the normal load or the
 // surface changed) -> tangential increment (only when its load or the bound changed) -> update
-// the InterfaceState -> observables -> observers (DESIGN §2).
+// the InterfaceState -> observables -> observers (docs/architecture.md).
 #pragma once
 
 #include <cstdint>
@@ -46,7 +46,7 @@ class Stepper {
   /// A node on its bound slips in a step when its slip exceeds kSlipThreshold x sqrt(contact
   /// nodes) x the solver tolerance x the displacement scale rms |C g| (the largest one-node
   /// error the solver's rms residual allows): below that the slip is the solver's error, not
-  /// motion (issue 17 §2).
+  /// motion.
   static constexpr double kSlipThreshold = 4.0;
 
   explicit Stepper(Model& model);
@@ -60,8 +60,8 @@ class Stepper {
   /// Runs one step given explicitly (wear cycles replay the path's cycle); `index` is its row.
   StepRecord advance(const LoadStep& ls, int index);
   /// The indenter surface (Model::surface) changed: the next step re-solves the normal contact
-  /// even at an unchanged normal load (DESIGN §2 "no normal re-solve when F_z, delta and the
-  /// surface did not change").
+  /// even at an unchanged normal load (docs/architecture.md, "Skip what a scene does not
+  /// need": no normal re-solve when F_z, delta and the surface did not change).
   void surface_changed() { surface_changed_ = true; }
   /// Wear runs: the wear cycle N being simulated, named when a solve fails.
   void set_wear_cycle(double N) { wear_cycle_ = N; }

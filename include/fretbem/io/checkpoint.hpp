@@ -17,7 +17,7 @@
 namespace fretbem {
 
 /// Layout version of checkpoint.h5 (dataset `format_version`); a reader refuses any other.
-/// 2: run_id and format_version added (issue 14).
+/// 2: run_id and format_version added.
 constexpr int kCheckpointFormat = 2;
 
 struct Checkpoint {
@@ -31,8 +31,8 @@ struct Checkpoint {
   /// not empty; checked by validate_checkpoint); checkpoints written before it have none and
   /// resume with an empty predictor.
   std::vector<double> predictor;
-  /// Fingerprints of the run's load path and initial surface (absent in checkpoints written
-  /// before session 5: then not checked).
+  /// Fingerprints of the run's load path and initial surface (absent in checkpoints of
+  /// format 2 written without them: then not checked).
   std::optional<InputDigest> inputs;
 };
 

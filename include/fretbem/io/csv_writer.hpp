@@ -1,5 +1,5 @@
 // CsvWriter: a header row and one row of numbers per call, flushed at once, so that a killed
-// run leaves every finished row readable (DESIGN §4 "Time series").
+// run leaves every finished row readable (README "Time series").
 #pragma once
 
 #include <cstdio>

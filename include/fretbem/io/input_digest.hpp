@@ -1,7 +1,7 @@
 // Fingerprints of what a run read from its inputs (the load path built from load.table or the
 // path keys, the initial surface from surface.file or its generator), kept in checkpoints so
 // that a resume refuses an input edited since the run started, or a fretbem that builds them
-// otherwise, instead of continuing on a different history (issue 14: an edited load table was
+// otherwise, instead of continuing on a different history (an edited load table was
 // followed silently from the resumed step on).
 #pragma once
 

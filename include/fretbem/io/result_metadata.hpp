@@ -1,4 +1,4 @@
-// What makes result.h5 and checkpoint.h5 self-describing (DESIGN §4 "Fields", issue 16): the
+// What makes result.h5 and checkpoint.h5 self-describing (README "Fields"): the
 // file attributes (program, format version, grid spacing and origin, periodic flag, array
 // layout, output folder), the units of every field and time-series column, and the `x`/`y`
 // coordinate datasets, registered as HDF5 dimension scales (H5DS) so that netCDF-4 readers

@@ -1,4 +1,4 @@
-// DIR/result.h5 of a resumed run, rebuilt from what is known to be whole (issue 14).
+// DIR/result.h5 of a resumed run, rebuilt from what is known to be whole.
 //
 // A kill during an HDF5 flush can leave result.h5 unopenable, openable with a stale
 // /timeseries, or openable with metadata past the file's recorded end of allocation, which

@@ -1,5 +1,5 @@
 // Run outputs as observers of the stepper: the time-series CSV, the HDF5 result file and the
-// progress line (DESIGN §4 "Time series", "Fields").
+// progress line (README "Time series", "Fields").
 #pragma once
 
 #include <chrono>

@@ -9,7 +9,7 @@
 
 namespace fretbem {
 
-/// Self-affine random roughness (DESIGN §1 "Rough surfaces").
+/// Self-affine random roughness (README, the `surface.*` keys; PSD ∝ q^{-2(1+H)}).
 enum class RoughMethod { midpoint, fourier };
 
 struct RoughSpec {

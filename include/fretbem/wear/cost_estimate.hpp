@@ -1,4 +1,4 @@
-// What a wear run will cost, before it runs (`fretbem check`, issue 19): the first steady
+// What a wear run will cost, before it runs (`fretbem check`): the first steady
 // cycle of the unworn surface is simulated at the scenario's grid; its largest slip gives the
 // explicit stability cap, its FFT convolutions and wall time the cost of one simulated cycle.
 #pragma once

@@ -1,5 +1,5 @@
-// Wear integration over the cycle count N (DESIGN §1 "Wear", §2 "(wear) cycle integrator
-// updates Surface between cycles"; issue 6).
+// Wear integration over the cycle count N (docs/wear.md; docs/architecture.md, the wear
+// driver: the cycle integrator updates the surface between cycles).
 //
 // The surface is updated between cycles, never within one: a cycle is simulated on a frozen
 // surface (constant normal load => one normal solve, constant Coulomb bound, a tangential
@@ -16,7 +16,7 @@
 //    that (measured crossover, docs/wear.md).
 //  - erk: dW/dN = w(z0 - W) for the worn depth W, explicit adaptive Runge–Kutta
 //    (SUNDIALS ARKODE ERKStep), error-controlled, with the step capped by the explicit stability
-//    bound dN k s_max K_max <= 1 (issue 6), K_max = 1.7 E*/h. The right-hand side is the
+//    bound dN k s_max K_max <= 1, K_max = 1.7 E*/h. The right-hand side is the
 //    steady cycle of the surface: from a fresh (traction-free) state, monotone loading to the
 //    path's first turning point, then one full cycle back to it. For Coulomb friction at
 //    constant pressure that loop is closed from the first turning point on (Masing /
@@ -214,7 +214,7 @@ inline constexpr double kImplicitPastCaps = 50.0;
 bool runs_implicit(WearIntegrator kind, double N, double cap, double evaluation_cycles);
 
 /// Stability cap on the cycle step of an explicit integrator: 1 / (k_eq s_max K_max),
-/// K_max = 1.7 E*/h the largest eigenvalue of the normal influence matrix (issue 6).
+/// K_max = 1.7 E*/h the largest eigenvalue of the normal influence matrix.
 double explicit_step_cap(const Model& model, double max_slip);
 
 /// wear.integrator = erk chosen for a run longer than kImplicitPastCaps stability caps `cap`

@@ -1,6 +1,7 @@
 // WearModel: the local wear law, asked once per load step for the worn-depth increment of every
-// node from its pressure, end-of-step traction and slip increment (DESIGN §1 "Wear", §2 "Laws
-// are small interfaces, one file per law"). Nothing else knows which law is in use.
+// node from its pressure, end-of-step traction and slip increment (docs/wear.md; laws
+// are small interfaces, one file per law: docs/architecture.md). Nothing else knows which law
+// is in use.
 #pragma once
 
 #include <memory>

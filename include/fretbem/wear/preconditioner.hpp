@@ -1,5 +1,5 @@
 // WearPreconditioner: the linearised per-cycle wear map, used to precondition the Newton–Krylov
-// iterations of the implicit wear integrator (issue 6).
+// iterations of the implicit wear integrator.
 //
 // The wear of a cycle is w = d ⊙ p(W): the pressure p of the surface z0 - W times the wear per
 // unit pressure d = w / p of each node in contact (k S for Archard with S the slip path of the
