@@ -70,7 +70,8 @@ TEST(FftThreads, SmallGridsUseOneThread) {
 
 // CPU time, not wall time: it does not grow with the machine's load. The factor and the
 // slack cover the run-to-run spread of a 0.1 s run; spinning OpenMP workers at n = 16 cost
-// 20-60 times the CPU of one thread on a loaded machine.
+// 16-21 times the CPU of one thread on a busy machine, about the same on an idle one
+// (docs/performance.md, "FFT threads"), so only a busy machine tells them apart.
 TEST(FftThreads, SecondThreadCostsNoCpuOnASmallGrid) {
   const std::string dir = ::testing::TempDir() + "fft_threads_" + std::to_string(getpid());
   const double one = run_cpu(1, dir + "_1"), two = run_cpu(2, dir + "_2");
