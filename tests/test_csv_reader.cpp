@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include "fretbem/core/csv_reader.hpp"
@@ -81,6 +82,13 @@ TEST(CsvReader, BadRowsNameFileAndLine) {
   const auto nan = write("nan.csv", "a\nnan\n");
   EXPECT_NE(message_of(nan).find("is not a finite number"), std::string::npos);
   EXPECT_TRUE(std::isnan(csv::read_table(nan, {.allow_nan = true}).rows[0][0]));
+  // fretbem's own files hold kx = inf for a fully stuck periodic interface; inputs may not.
+  const auto inf = write("inf.csv", "a\ninf\n");
+  EXPECT_NE(message_of(inf).find("is not a finite number"), std::string::npos);
+  EXPECT_EQ(csv::read_table(inf, {.allow_nan = true}).rows[0][0],
+            std::numeric_limits<double>::infinity());
+  const auto minus_inf = write("minus_inf.csv", "a\n-inf\n");
+  EXPECT_THROW(csv::read_table(minus_inf, {.allow_nan = true}), InputError);
   EXPECT_NE(message_of(write("empty.csv", "# only a comment\n\n")).find("no header"),
             std::string::npos);
   EXPECT_NE(message_of(temp_dir()).find("is a directory"), std::string::npos);

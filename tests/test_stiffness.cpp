@@ -3,15 +3,20 @@
 // of the normal contact (here by central differences of two normal solves, which the stiffness
 // solve does not use); solver.stiffness = every | turning | none in the stepper.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <limits>
 #include <string>
 #include <utility>
 
 #include "fretbem/contact/monotone_shortcut.hpp"
 #include "fretbem/contact/stiffness.hpp"
+#include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
@@ -184,4 +189,55 @@ TEST(Stiffness, BadModeIsOneClearLine) {
     EXPECT_NE(m.find("solver.stiffness"), std::string::npos) << m;
     EXPECT_NE(m.find("every|turning|none"), std::string::npos) << m;
   }
+}
+
+// A periodic grid's kernels have no mean mode, so a unit shift of every node is no
+// displacement at all: with every node stuck, J = sup (2 e.psi - psi.C psi) is unbounded and
+// k_x = +inf. Removing nodes from the stick set lowers k_x (J is a supremum over fields on the
+// set, so it can only grow with the set): all but one node is finite and above all but a 4 x 4
+// block, and the stepper reports +inf for a flat punch in full stick instead of stopping.
+TEST(Stiffness, PeriodicFullStickIsRigid) {
+  const Grid grid = Grid::square(16, 1.0, true);
+  Material mat;
+  mat.body1 = {1.0, 0.3};
+  HalfSpace hs{grid, mat, Coupling::cerruti};
+  TangentialOperator op{hs, Vec2(1, 0)};
+  StiffnessSolver solver(op, 1e-10, 20000);
+  StateField st = StateField::Constant(16, 16, std::uint8_t(NodeState::stick));
+  EXPECT_EQ(solver.solve(st).kx, std::numeric_limits<double>::infinity());
+  st(5, 7) = std::uint8_t(NodeState::slip);
+  const double one_out = solver.solve(st).kx;
+  st.block(4, 4, 4, 4).setConstant(std::uint8_t(NodeState::slip));
+  const double block_out = solver.solve(st).kx;
+  EXPECT_TRUE(std::isfinite(one_out));
+  EXPECT_GT(block_out, 0.0);
+  EXPECT_GT(one_out, block_out);
+
+  const std::string flat =
+      "[material]\nE = 1\nnu = 0.3\nmu = 0.5\n[grid]\nn = 16\nlength = 1\nperiodic = true\n"
+      "[surface]\ntype = flat\n[load]\nnormal_force = 0.01\npath = sine\namplitude = 0.6\n"
+      "cycles = 1\nsteps_per_cycle = 8\n[solver]\nthreads = 1\nstiffness = every\n";
+  auto model = build_model(parse_scenario(flat, "t", "."));
+  Stepper stepper(*model);
+  for (std::size_t k = 0; k < stepper.steps(); ++k)
+    EXPECT_EQ(stepper.advance(k).kx, std::numeric_limits<double>::infinity()) << "step " << k;
+}
+
+// The same flat punch through the command line: the run finishes (its summary reads the
+// files back) and cycles.csv reports the rigid interface at both turning points.
+TEST(Stiffness, PeriodicFlatPunchRunFinishes) {
+  const std::string out = ::testing::TempDir() + "periodic_flat_" + std::to_string(getpid());
+  const std::string cmd = std::string(FRETBEM_BINARY) +
+                          " run " FRETBEM_SOURCE_DIR
+                          "/scenarios/mindlin_cycle.ini --set grid.n=16 --set grid.periodic=true"
+                          " --set surface.type=flat --set load.cycles=1"
+                          " --set load.steps_per_cycle=8 --quiet --overwrite --out " +
+                          out + " > /dev/null 2>&1";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << cmd;
+  const auto cycles = csv::read_table(out + "/cycles.csv", {.allow_nan = true});
+  ASSERT_EQ(cycles.rows.size(), 1u);
+  EXPECT_EQ(cycles.rows[0][std::size_t(cycles.find("kx_at_max"))],
+            std::numeric_limits<double>::infinity());
+  std::filesystem::remove_all(out);
 }

@@ -61,6 +61,15 @@ class KxEstimate {
   int count_ = 0;
 };
 
+// Every node stuck on a periodic grid: the periodic kernels have no mean mode (displacements
+// are measured from their mean, half_space_kernels.cpp), and the unit shift e_x on all nodes is
+// that mode. C psi = e_x has no solution and J = sup (2 e_x.psi - psi.C psi) grows without bound
+// along psi = t e_x: the interface adds no compliance, k_x = +inf exactly.
+StiffnessResult rigid_interface(StiffnessResult res) {
+  res.kx = std::numeric_limits<double>::infinity();
+  return res;
+}
+
 }  // namespace
 
 StiffnessSolver::StiffnessSolver(TangentialOperator& op, double tolerance, int max_iterations,
@@ -175,6 +184,7 @@ StiffnessResult StiffnessSolver::solve(const StateField& state) {
     if (stick[std::size_t(k)]) nodes_.push_back(k);
   }
   if (nodes_.empty()) return res;  // full sliding: no stiffness
+  if (op_.grid().periodic && nodes_.size() == stick.size()) return rigid_interface(res);
   // k_x depends on the stick set alone: a set met recently (an unchanged step, the full
   // contact after a reversal) needs no new solve.
   const std::vector<std::uint64_t> bits = pack(stick);

@@ -47,7 +47,9 @@ double parse_cell(std::string_view s, bool allow_nan, const std::string& where) 
   const char* e = s.data() + s.size();
   double v = 0.0;
   const auto [ptr, ec] = std::from_chars(b, e, v);
-  if (s.empty() || ec != std::errc() || ptr != e || !std::isfinite(v))
+  // kx = +inf: a fully stuck periodic interface (StiffnessResult::kx), written as "inf".
+  const bool own_infinity = allow_nan && v == std::numeric_limits<double>::infinity();
+  if (s.empty() || ec != std::errc() || ptr != e || (!std::isfinite(v) && !own_infinity))
     throw InputError(where + ": '" + printable(s) + "' is not a finite number");
   return v;
 }

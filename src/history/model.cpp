@@ -154,12 +154,16 @@ void check_memory(const Scenario& sc) {
   throw InputError(msg.str());
 }
 
-// solver.threads = 0: all usable cores (affinity mask, SLURM_CPUS_PER_TASK) from n = 512 up, where
-// the 2n x 2n transforms are large enough for threads to pay; one thread below (threads cost more
-// than they save on small grids).
-int default_threads(const Grid& g) {
-  if (std::max(g.nx, g.ny) < 512) return 1;
-  return usable_cpus();
+// FFT threads: solver.threads (0: all usable cores, affinity mask, SLURM_CPUS_PER_TASK) from
+// n = kThreadedFromN up, one thread below. The transforms of a small grid take microseconds,
+// less than the hand-over between threads: a second thread there costs many times the CPU of one
+// and, on a loaded machine, the wall time too (libgomp's workers spin between FFTW's parallel
+// regions). Measured break-even: docs/performance.md, "FFT threads".
+constexpr int kThreadedFromN = 512;
+
+int fft_threads(const SolverSpec& s, const Grid& g) {
+  if (std::max(g.nx, g.ny) < kThreadedFromN) return 1;
+  return s.threads > 0 ? s.threads : usable_cpus();
 }
 
 bool stiffness_wanted(const Model& model, int step, bool turning) {
@@ -184,7 +188,7 @@ std::unique_ptr<Model> prepare_model(const Scenario& sc) {
 
 FftOptions fft_options(const Scenario& sc) {
   FftOptions fft;
-  fft.threads = sc.solver.threads > 0 ? sc.solver.threads : default_threads(sc.grid);
+  fft.threads = fft_threads(sc.solver, sc.grid);
   fft.precision = sc.solver.fft_precision;
   fft.measure =
       sc.solver.fft_plan == FftPlanning::measure ||

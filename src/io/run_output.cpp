@@ -28,11 +28,12 @@ Field state_field(const StateField& state) {
   return (state == at_bound).select(double(NodeState::stick), state.cast<double>());
 }
 
+// kx = +inf is a value: a periodic grid stuck at every node is rigid (StiffnessResult::kx).
 void check_finite(const StepRecord& rec, bool kx_on) {
   const auto vals = rec.values();
   const auto& cols = StepRecord::columns();
   for (std::size_t i = 0; i < vals.size(); ++i) {
-    if (std::isfinite(vals[i]) || (cols[i] == "kx" && !kx_on)) continue;
+    if (std::isfinite(vals[i]) || (cols[i] == "kx" && (!kx_on || vals[i] > 0))) continue;
     throw SolverError("step " + std::to_string(rec.step) + ": " + cols[i] +
                       " is not finite; the run stops here (rows so far are written)");
   }

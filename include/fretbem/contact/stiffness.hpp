@@ -14,7 +14,7 @@
 namespace fretbem {
 
 struct StiffnessResult {
-  double kx = 0.0;  ///< N/m
+  double kx = 0.0;  ///< N/m; +inf when every node of a periodic grid sticks (no mean mode)
   int iterations = 0;
   double residual = 0.0;        ///< RMS residual of C psi = e_x at the stop (1: no shift matched)
   double kx_error = 0.0;        ///< estimated relative error of kx at the stop (<= 0.1 tolerance)

@@ -25,7 +25,8 @@ struct Table {
 };
 
 struct ReadOptions {
-  /// Accept "nan" (any case) and empty cells as NaN: files fretbem wrote itself (kx off).
+  /// Accept "nan" (any case) and empty cells as NaN, and "inf" as +inf: files fretbem wrote
+  /// itself (kx off; kx of a fully stuck periodic interface).
   bool allow_nan = false;
   /// Stop after this many data rows (resume reads only the rows a checkpoint covers).
   std::size_t max_rows = std::numeric_limits<std::size_t>::max();
@@ -36,7 +37,7 @@ struct ReadOptions {
 std::vector<std::string> read_header(const std::filesystem::path& file);
 
 /// The whole table. Throws InputError naming FILE:LINE for a row with the wrong number of
-/// cells or a cell that is not a finite number (NaN only with allow_nan).
+/// cells or a cell that is not a finite number (NaN and +inf only with allow_nan).
 Table read_table(const std::filesystem::path& file, const ReadOptions& options = {});
 
 }  // namespace fretbem::csv

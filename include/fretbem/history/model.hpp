@@ -58,10 +58,10 @@ bool use_cycle_predictor(const Scenario& sc, const LoadPath& path);
 /// smaller of physical memory and its cgroup limit, core/resources.hpp): a grid
 /// that cannot fit is refused before anything large is allocated. build_model calls it.
 void check_memory(const Scenario& sc);
-/// FFT threads for solver.threads = 0: one below n = 512, all usable CPUs (usable_cpus) from
-/// there up.
-int default_threads(const Grid& grid);
-/// The FFT settings of a scenario's HalfSpace: threads (default_threads for 0), precision, and
+/// FFT threads: one below n = 512 whatever solver.threads asks (threads cost more than they
+/// save on small grids); from there solver.threads, all usable CPUs (usable_cpus) for 0.
+int fft_threads(const SolverSpec& solver, const Grid& grid);
+/// The FFT settings of a scenario's HalfSpace: threads (fft_threads), precision, and
 /// solver.fft_plan resolved (auto: measure when fft_wisdom::persistent).
 FftOptions fft_options(const Scenario& sc);
 /// The surface a scenario describes (generated, or loaded and checked against the grid).
