@@ -243,13 +243,15 @@ TEST(StudyFaults, AtomicWriteKeepsThePreviousFile) {
 }
 
 // A full disk (tmpfs, root only) while sweep.csv and aggregate.csv are written: exit 1, one line
-// naming the file, and the last good sweep.csv kept. Before, sweep.csv became an empty file and
-// aggregate.csv was cut at 5963 of 10001 rows, both with exit 0.
+// naming the file, and the last good sweep.csv kept (never an empty sweep.csv or an aggregate.csv
+// cut short with exit 0).
 TEST(StudyFaults, SummariesOnAFullDiskKeepTheLastGoodVersion) {
   if (::geteuid() != 0) GTEST_SKIP() << "needs root to mount a tmpfs";
   const fs::path d = scratch("full_disk"), mnt = d / "tmpfs";
   fs::create_directories(mnt);
-  if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, "size=1m") != 0)
+  // Room for the four members' results (1.2 MB at n = 32, fields at step 0 and the turning
+  // points); the ensemble below gets 1 MB, less than its 10001-row aggregate.
+  if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, "size=3m") != 0)
     GTEST_SKIP() << "cannot mount a tmpfs here";
   const fs::path study = small_study(d), out = mnt / "sw";
   Result r =
@@ -270,6 +272,7 @@ TEST(StudyFaults, SummariesOnAFullDiskKeepTheLastGoodVersion) {
   EXPECT_FALSE(fs::exists(out / "sweep.csv.tmp"));
   fs::remove(mnt / "fill");
   fs::remove_all(out);
+  ASSERT_EQ(::mount("tmpfs", mnt.c_str(), "tmpfs", MS_REMOUNT, "size=1m"), 0);
   r = shell(kBin + " ensemble " + kRough + " --hurst 0.5 --seeds 2 --bins 10000 --quiet --out " +
                 (mnt / "e").string() + " --set grid.n=16 --set load.steps=3",
             d);
