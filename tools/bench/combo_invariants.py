@@ -132,9 +132,10 @@ def run_invariants(case, out):
 
 def kx_rtol(case):
     """Relative difference allowed between a resumed and an uninterrupted run's kx (docstring
-    above: double's 1e-7, or float FFTs' single-precision bound)."""
+    above: max(1e-7, 2 kShare tol) in double, or float FFTs' single-precision bound)."""
     if case.get("solver.fft_precision") != "float":
-        return KX_RTOL
+        tol = float(case.get("solver.tolerance", 1e-8))
+        return max(KX_RTOL, 2 * KX_STOP_SHARE * tol)
     tol = max(float(case.get("solver.tolerance", FLOAT_FFT_MIN_TOLERANCE)),
               FLOAT_FFT_MIN_TOLERANCE)
     return 2 * (KX_STOP_SHARE * tol + FLOAT_EPSILON)
