@@ -14,12 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/hdf5.hpp"
 #include "fretbem/core/input_warning.hpp"
-#include "fretbem/core/output_lock.hpp"
 #include "fretbem/core/resources.hpp"
 #include "fretbem/core/stop_signal.hpp"
 #include "fretbem/history/check_report.hpp"
@@ -27,21 +25,15 @@
 #include "fretbem/history/edge_preflight.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/resolution.hpp"
-#include "fretbem/history/stepper.hpp"
-#include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/failed_solve.hpp"
-#include "fretbem/io/replaced_results.hpp"
-#include "fretbem/io/resolution_report.hpp"
-#include "fretbem/io/result_recovery.hpp"
 #include "fretbem/io/resume_check.hpp"
-#include "fretbem/io/run_output.hpp"
+#include "fretbem/run/run.hpp"
 #include "fretbem/scenario/ignored_keys.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/study/ensemble.hpp"
 #include "fretbem/study/sweep.hpp"
 #include "fretbem/surface/surface.hpp"
 #include "fretbem/wear/cost_estimate.hpp"
-#include "fretbem/wear/integrator.hpp"
 
 namespace po = boost::program_options;
 using namespace fretbem;
@@ -176,160 +168,27 @@ Scenario read_scenario(const Args& a) {
   return sc;
 }
 
-// Reads DIR/timeseries.csv back (resume): the rows a cycle summary has to replay.
-std::vector<StepRecord> read_timeseries(const std::filesystem::path& dir, std::size_t rows) {
-  const auto table = csv::read_table(dir / "timeseries.csv", {.allow_nan = true, .max_rows = rows});
-  std::vector<StepRecord> out;
-  for (const auto& row : table.rows) out.push_back(StepRecord::from_values(row));
-  return out;
+RunOptions run_options(const Args& a) {
+  return {.quiet = a.quiet, .overwrite = a.overwrite, .stop_after = a.stop_after};
 }
 
-// The energy per cycle of the last complete cycle of cycles.csv (every cycle but a shorter
-// last one), or none when the path has no complete cycle.
-std::optional<std::pair<int, double>> steady_energy(const std::filesystem::path& cycles) {
-  const auto t = csv::read_table(cycles, {.allow_nan = true});
-  const long steps = t.find("steps"), energy = t.find("dissipated_energy");
-  if (steps < 0 || energy < 0 || t.rows.empty()) return std::nullopt;
-  double most = 0;
-  for (const auto& r : t.rows) most = std::max(most, r[steps]);
-  for (auto r = t.rows.rbegin(); r != t.rows.rend(); ++r)
-    if ((*r)[steps] == most) return std::pair{int(r->front()), (*r)[energy]};
-  return std::nullopt;
-}
-
-// The final summary: printed with --quiet too (it silences progress, not results).
-void print_summary(std::size_t steps, bool cyclic, const std::filesystem::path& ts,
-                   const std::filesystem::path& cycles, const std::filesystem::path& h5) {
-  std::printf("fretbem: %zu steps done\n", steps);
-  if (const auto e = cyclic ? steady_energy(cycles) : std::nullopt)
-    std::printf("  energy per cycle: %s J (cycle %d, the last complete one)\n",
-                format_number(e->second).c_str(), e->first);
-  std::printf("  time series: %s\n  cycles:      %s\n  fields:      %s\n", ts.string().c_str(),
-              cycles.string().c_str(), h5.string().c_str());
-}
-
-int run_model(Model& model, Stepper& stepper, long resume_rows, const Args& a) {
-  const bool quiet = a.quiet;
-  const auto& dir = model.scenario.output.dir;
-  TimeseriesCsv csv(dir, resume_rows);
-  ResultFile h5(dir, model, resume_rows);
-  CycleSummary cycles(dir, model.scenario.load.path, model.scenario.grid.h,
-                      resume_rows >= 0 ? 0 : -1);
-  if (resume_rows > 0)
-    for (const auto& r : read_timeseries(dir, std::size_t(resume_rows)))
-      cycles.on_step(r, stepper.state(), model);
-  Checkpointer checkpoint(dir, stepper, model.scenario.output.checkpoint_every);
-  ProgressLine progress(model);
-  ResolutionReport resolution;
-  if (resume_rows > 0)
-    for (const auto& r : read_timeseries(dir, std::size_t(resume_rows)))
-      resolution.on_step(r, stepper.state(), model);
-  std::vector<Observer*> obs{&csv, &h5, &cycles, &checkpoint, &resolution};
-  if (!quiet) obs.push_back(&progress);
-  std::size_t budget = a.stop_after > 0 ? std::size_t(a.stop_after) : SIZE_MAX;
-  // Step 0 (the normal loading) runs even when a stop was requested before it: a checkpoint
-  // without it holds no step to resume after (next_step = 0 is refused). A run replacing
-  // another's results keeps those until it has this checkpoint (replaced_results.hpp).
-  // A path of step 0 alone is finished (observers told) by that first call; any other run,
-  // a resume of a finished checkpoint included, ends in the second, which tells them.
-  bool finished = false;
-  if (stepper.memory().next_step == 0) {
-    budget -= stepper.run(obs, 1);
-    finished = stepper.memory().next_step == stepper.steps();
-    if (replacing_results(dir)) save_checkpoint(dir, model, stepper);
-  }
-  if (!finished) stepper.run(obs, budget, stop_requested);
-  if (stepper.memory().next_step < stepper.steps()) {
-    save_checkpoint(dir, model, stepper);
-    h5.write_xdmf();
-    // Steps count rows of timeseries.csv: row 0 is the normal loading (as `check` counts).
-    const std::string where = std::to_string(stepper.memory().next_step) + " of " +
-                              std::to_string(stepper.steps()) + " steps";
-    return report_stop(where, dir);
-  }
-  const PathType path = model.scenario.load.path;
-  print_summary(stepper.steps(), path == PathType::sine || path == PathType::table, csv.path(),
-                dir / "cycles.csv", h5.path());
-  if (!resolution.summary().empty()) std::printf("  %s\n", resolution.summary().c_str());
-  for (const auto& w : resolution.warnings()) std::fprintf(stderr, "fretbem: %s\n", w.c_str());
-  return 0;
-}
-
-void warn_if_any(const std::string& warning) {
-  if (!warning.empty()) std::fprintf(stderr, "fretbem: %s\n", warning.c_str());
-}
-
-// Resume: the checkpoint is validated against the scenario it carries, and the outputs in
-// DIR against the checkpoint (run id, row counts), before anything is written.
-int resume_run(const Args& a) {
+// Resume takes the run's own scenario and folder: options that would change either are
+// refused.
+int cmd_resume(const Args& a) {
   if (!a.scenario.empty() || !a.sets.empty())
     throw InputError("run --resume DIR takes no scenario or --set: the run's own is used");
   if (a.out_given)
     throw InputError("run --resume DIR continues in DIR: --out is not allowed with it");
   if (a.overwrite) throw InputError("run --resume DIR: --overwrite is not allowed with it");
-  const std::filesystem::path dir = a.resume;
-  std::error_code ec;
-  if (!std::filesystem::is_directory(dir, ec))
-    throw InputError(dir.string() + ": not a folder of a run to resume");
-  const OutputLock lock(dir);
-  warn_if_any(settle_replaced_results(dir));
-  check_output_files(dir);
-  const Checkpoint cp = load_checkpoint(dir);
-  Scenario sc = parse_scenario(cp.scenario_text, (dir / "checkpoint.h5").string(), ".", {});
-  set_output_dir(sc, dir);
-  auto model = build_model(sc);
-  validate_checkpoint(cp, *model, dir / "checkpoint.h5");
-  model->run_id = cp.run_id;
-  if (model->wear) {
-    if (!cp.wear) throw InputError((dir / "checkpoint.h5").string() + ": not a wear run's");
-    check_finished_rows(dir / "timeseries.csv", std::size_t(cp.wear->counters.rows));
-    check_finished_rows(dir / "cycles.csv", std::size_t(cp.wear->cycles_rows));
-    warn_if_any(prepare_result_for_resume(
-        dir, *model, cp.run_id,
-        {.rows = std::size_t(cp.wear->counters.rows),
-         .field_steps = std::int64_t(cp.wear->counters.rows),  // fields are of rows
-         .snapshots = cp.wear->snapshots}));
-    return run_wear(*model, a.quiet, &cp, a.stop_after).exit_code;
-  }
-  if (cp.wear)
-    throw InputError((dir / "checkpoint.h5").string() + ": a wear run's, but no wear.law");
-  // Never written in place: a kill may have torn it (result_recovery.hpp).
-  const auto done = std::int64_t(cp.memory.next_step);
-  check_finished_rows(dir / "timeseries.csv", cp.memory.next_step);
-  warn_if_any(prepare_result_for_resume(dir, *model, cp.run_id,
-                                        {.rows = cp.memory.next_step, .field_steps = done}));
-  model->surface = cp.surface;
-  Stepper stepper(*model);
-  const Grid& g = model->scenario.grid;
-  stepper.restore(cp.state, cp.memory,
-                  CyclePredictor::unflatten(cp.predictor, std::size_t(g.nx * g.ny),
-                                            model->tangential_operator->components()));
-  return run_model(*model, stepper, long(cp.memory.next_step), a);
+  return resume_run(a.resume, run_options(a));
 }
 
 int cmd_run(const Args& a) {
   install_stop_signal_handlers(SecondSignal::kills);  // stop at the next step, checkpointed
-  if (!a.resume.empty()) return resume_run(a);
+  if (!a.resume.empty()) return cmd_resume(a);
   Scenario sc = read_scenario(a);
   if (!a.out.empty()) set_output_dir(sc, a.out);
-  auto model = build_model(sc);
-  const OutputLock lock(sc.output.dir);  // before the checks: no second run slips in between
-  warn_if_any(settle_replaced_results(sc.output.dir));
-  prepare_output_dir(sc.output.dir, a.overwrite);
-  model->run_id = new_run_id();
-  try {
-    if (model->wear) return run_wear(*model, a.quiet, nullptr, a.stop_after).exit_code;
-    Stepper stepper(*model);
-    return run_model(*model, stepper, -1, a);
-  } catch (...) {
-    // Failed before its first checkpoint: the results it was to replace are put back. Its
-    // error is the one line to print; a folder that cannot be settled now is at the next run.
-    try {
-      (void)settle_replaced_results(sc.output.dir);
-    } catch (const std::exception&) {
-    }
-    throw;
-  }
+  return run_scenario(sc, run_options(a));
 }
 
 // Everything `run` refuses before its tangential solves, with run's line and exit code:

@@ -474,7 +474,10 @@ void Checkpointer::on_step(const StepRecord& rec, const InterfaceState&, const M
   // would checkpoint every step (10 002 checkpoints, 4.4x the run time):
   // at most one turning-point checkpoint per second.
   const bool turning = rec.turning && since >= 1.0;
-  if (!(due || turning || last)) return;
+  // A run replacing another's results keeps those until it has a checkpoint
+  // (replaced_results.hpp), so it writes one after step 0.
+  const bool replacing = rec.step == 0 && replacing_results(dir_);
+  if (!(due || turning || last || replacing)) return;
   save_checkpoint(dir_, model, stepper_);
   last_ = now;
 }

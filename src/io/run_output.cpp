@@ -1,12 +1,9 @@
 #include "fretbem/io/run_output.hpp"
 
 #include <cmath>
-#include <csignal>
-#include <cstdio>
 #include <fstream>
 
 #include "fretbem/core/errors.hpp"
-#include "fretbem/core/stop_signal.hpp"
 #include "fretbem/history/cost_estimate.hpp"
 #include "fretbem/history/load_path.hpp"
 #include "fretbem/io/xdmf_writer.hpp"
@@ -86,20 +83,6 @@ TimeseriesCsv::TimeseriesCsv(const std::filesystem::path& dir, long resume_rows)
 void TimeseriesCsv::on_step(const StepRecord& rec, const InterfaceState&, const Model& m) {
   check_finite(rec, stiffness_wanted(m, rec.step, rec.turning));
   csv_.row(rec.values());
-}
-
-int report_stop(const std::string& where, const std::filesystem::path& dir) {
-  const int sig = stop_signal();
-  if (sig == 0) {
-    std::printf("fretbem: stopped after %s; continue with: fretbem run --resume %s\n",
-                where.c_str(), dir.string().c_str());
-    return 0;
-  }
-  std::fprintf(stderr,
-               "fretbem: stopped by %s after %s, checkpoint written; continue with: fretbem run "
-               "--resume %s\n",
-               sig == SIGINT ? "SIGINT" : "SIGTERM", where.c_str(), dir.string().c_str());
-  return 128 + sig;
 }
 
 void write_result_header(io::Hdf5Writer& h5, const Model& m) {

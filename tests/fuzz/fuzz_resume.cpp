@@ -28,6 +28,7 @@
 #include "fretbem/io/result_recovery.hpp"
 #include "fretbem/io/resume_check.hpp"
 #include "fretbem/scenario/scenario.hpp"
+#include "fretbem/run/wear_run.hpp"
 #include "fretbem/wear/integrator.hpp"
 #include "fuzz_input.hpp"
 
@@ -183,7 +184,7 @@ fs::path edited_copy(const Template& t, FuzzedDataProvider& in) {
   return dir;
 }
 
-// What `fretbem run --resume DIR` does before and after its checks (cli/main.cpp resume_run),
+// What `fretbem run --resume DIR` does before and after its checks (run/run.cpp resume_run),
 // with small bounds so that one input stays a few milliseconds.
 void resume(const fs::path& dir) {
   const fretbem::Checkpoint cp = fretbem::load_checkpoint(dir);

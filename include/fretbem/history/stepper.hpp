@@ -14,16 +14,9 @@
 #include "fretbem/history/failed_solve.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/observables.hpp"
+#include "fretbem/history/observer.hpp"
 
 namespace fretbem {
-
-/// Receives every finished step; writers and progress lines are observers.
-class Observer {
- public:
-  virtual ~Observer() = default;
-  virtual void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) = 0;
-  virtual void on_finish(const InterfaceState& /*state*/, const Model& /*model*/) {}
-};
 
 /// The stepper's memory between steps besides the InterfaceState: what a restart needs.
 struct StepperMemory {
@@ -74,6 +67,8 @@ class Stepper {
   void restore(const InterfaceState& state, const StepperMemory& memory,
                CyclePredictor predictor = {});
   std::size_t steps() const { return model_.path.steps.size(); }
+  /// The index of the next step to run (steps() when the path is complete).
+  std::size_t next_step() const { return next_; }
 
  private:
   bool normal_step(const LoadStep& ls, StepRecord& rec);

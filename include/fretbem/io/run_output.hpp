@@ -89,12 +89,6 @@ class ProgressLine final : public Observer {
   ProgressReporter reporter_;
 };
 
-/// A run stopped early with its checkpoint written (`where`: "K of N steps", "N = K of M"):
-/// by --stop-after, one line on stdout and 0; by SIGTERM/SIGINT (core/stop_signal.hpp), one
-/// line on stderr and 128 + the signal, as a shell reports a killed job. Both say how to
-/// continue.
-int report_stop(const std::string& where, const std::filesystem::path& dir);
-
 /// DIR/NAME.csv with these columns; resume_rows >= 0: keep the header and the first
 /// resume_rows data rows of an existing file and append (rows an interrupted run wrote after
 /// its checkpoint are dropped, not duplicated).

@@ -105,31 +105,9 @@ struct WearReport {
   int exit_code = 0;     ///< of `fretbem run` (run_wear): 128 + signal when one stopped it
 };
 
-/// Destination of the wear outputs: DIR/cycles.csv, snapshots in result.h5, checkpoints,
-/// progress.
-class WearLog {
- public:
-  virtual ~WearLog() = default;
-  /// Every simulated cycle, in order; ARKODE rows come after the integrator step they belong
-  /// to is finished (their `accepted` flag is known only then).
-  virtual void cycle(const WearCycle& /*c*/) {}
-  /// Fields at N (worn depth, pressure): called at the geometric sequence of N. `cycle_end`:
-  /// the stepper's state is the end of the simulated cycle whose rows were just written (the
-  /// pressure is that state's); else it is the normal loading alone of the surface worn to N,
-  /// solved for the pressure and not a row (the ODE integrators between their first and last
-  /// snapshot).
-  virtual void snapshot(double /*N*/, const Field& /*worn*/, const Field& /*pressure*/,
-                        bool /*cycle_end*/) {}
-  /// A wear step is finished and its rows and snapshots are out: the state to resume from.
-  virtual void step_done(const WearCheckpoint& /*at*/) {}
-  /// The simulated cycles the run is expected to take (cost_estimate.hpp), known after its
-  /// first steady cycle: what the progress line's ETA counts on.
-  virtual void expect(double /*simulated_low*/, double /*simulated_high*/) {}
-  /// A warning about the run, one line (explicit_cap_warning).
-  virtual void warn(const std::string& /*line*/) {}
-  /// Asked after each step_done: true ends the run there, `stopped` (a signal, for the CLI).
-  virtual bool stop_requested() const { return false; }
-};
+/// What the wear integrators report to: the run's Observer (history/observer.hpp), whose
+/// wear events (cycle, snapshot, step_done, expect, warn, stop_requested) they emit.
+using WearLog = Observer;
 
 /// Simulates cycles of the scenario's load path (its first period) on the model's surface.
 class WearCycles {
@@ -230,15 +208,5 @@ std::vector<double> snapshot_cycles(double N_end);
 /// wear.indenter_share of it, the half-space the rest (the contact sees only the sum).
 Field indenter_worn(const Model& model, const Field& worn);
 Field half_space_worn(const Model& model, const Field& worn);
-
-struct Checkpoint;
-
-/// The `fretbem run` of a scenario with a wear law: timeseries.csv (rows of every simulated
-/// cycle; time = simulated-cycle index + phase), cycles.csv (one row per simulated cycle),
-/// result.h5 with wear snapshots, and DIR/checkpoint.h5 after every wear step. `resume`: a
-/// checkpoint of this run to continue from; `max_steps` as integrate_wear. Prints the
-/// simulated-cycle count unless quiet.
-WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume = nullptr,
-                    long max_steps = -1);
 
 }  // namespace fretbem

@@ -1,0 +1,24 @@
+// `fretbem run`: the whole sequence of a run, from its validated scenario (or the folder of
+// an interrupted run) to its exit code (docs/architecture.md, "The run drivers"): build the
+// model, lock the output folder, set aside the results it replaces, make the observers, step
+// (or integrate the wear), stop and checkpoint, or resume.
+#pragma once
+
+#include <filesystem>
+
+#include "fretbem/run/options.hpp"
+#include "fretbem/scenario/scenario.hpp"
+
+namespace fretbem {
+
+/// A fresh run of `sc` into sc.output.dir. Returns the exit code (0; 128 + signal when a
+/// signal stopped it, checkpointed); throws on refused inputs and failed solves. A run that
+/// fails before its first checkpoint puts back the results it was to replace.
+int run_scenario(const Scenario& sc, const RunOptions& options);
+
+/// Continues the interrupted run in `dir` from its checkpoint (options.overwrite unused). The
+/// checkpoint is validated against the scenario it carries, and the outputs against the
+/// checkpoint, before anything is written.
+int resume_run(const std::filesystem::path& dir, const RunOptions& options);
+
+}  // namespace fretbem

@@ -1,0 +1,99 @@
+#include "fretbem/run/run.hpp"
+
+#include <cstdio>
+#include <system_error>
+
+#include "fretbem/core/errors.hpp"
+#include "fretbem/core/output_lock.hpp"
+#include "fretbem/history/model.hpp"
+#include "fretbem/io/checkpoint.hpp"
+#include "fretbem/io/replaced_results.hpp"
+#include "fretbem/io/result_recovery.hpp"
+#include "fretbem/io/resume_check.hpp"
+#include "fretbem/run/stepped_run.hpp"
+#include "fretbem/run/wear_run.hpp"
+
+namespace fretbem {
+
+namespace {
+
+void warn_if_any(const std::string& warning) {
+  if (!warning.empty()) std::fprintf(stderr, "fretbem: %s\n", warning.c_str());
+}
+
+// A wear run's checkpoint: its rows, fields and snapshots are checked and result.h5 rebuilt
+// to them, then the wear integration continues.
+int resume_wear(Model& model, const Checkpoint& cp, const std::filesystem::path& dir,
+                const RunOptions& options) {
+  if (!cp.wear) throw InputError((dir / "checkpoint.h5").string() + ": not a wear run's");
+  check_finished_rows(dir / "timeseries.csv", std::size_t(cp.wear->counters.rows));
+  check_finished_rows(dir / "cycles.csv", std::size_t(cp.wear->cycles_rows));
+  warn_if_any(prepare_result_for_resume(
+      dir, model, cp.run_id,
+      {.rows = std::size_t(cp.wear->counters.rows),
+       .field_steps = std::int64_t(cp.wear->counters.rows),  // fields are of rows
+       .snapshots = cp.wear->snapshots}));
+  return run_wear(model, options.quiet, &cp, options.stop_after).exit_code;
+}
+
+// A stepped run's checkpoint: result.h5 is never written in place (a kill may have torn it,
+// result_recovery.hpp); the stepper continues from the restored state and predictor.
+int resume_steps(Model& model, const Checkpoint& cp, const std::filesystem::path& dir,
+                 const RunOptions& options) {
+  if (cp.wear)
+    throw InputError((dir / "checkpoint.h5").string() + ": a wear run's, but no wear.law");
+  const auto done = std::int64_t(cp.memory.next_step);
+  check_finished_rows(dir / "timeseries.csv", cp.memory.next_step);
+  warn_if_any(prepare_result_for_resume(dir, model, cp.run_id,
+                                        {.rows = cp.memory.next_step, .field_steps = done}));
+  model.surface = cp.surface;
+  Stepper stepper(model);
+  const Grid& g = model.scenario.grid;
+  stepper.restore(cp.state, cp.memory,
+                  CyclePredictor::unflatten(cp.predictor, std::size_t(g.nx * g.ny),
+                                            model.tangential_operator->components()));
+  return run_steps(model, stepper, long(cp.memory.next_step), options);
+}
+
+}  // namespace
+
+int run_scenario(const Scenario& scenario, const RunOptions& options) {
+  auto model = build_model(scenario);
+  const auto& dir = scenario.output.dir;
+  const OutputLock lock(dir);  // before the checks: no second run slips in between
+  warn_if_any(settle_replaced_results(dir));
+  prepare_output_dir(dir, options.overwrite);
+  model->run_id = new_run_id();
+  try {
+    if (model->wear) return run_wear(*model, options.quiet, nullptr, options.stop_after).exit_code;
+    Stepper stepper(*model);
+    return run_steps(*model, stepper, -1, options);
+  } catch (...) {
+    // Failed before its first checkpoint: the results it was to replace are put back. Its
+    // error is the one line to print; a folder that cannot be settled now is at the next run.
+    try {
+      (void)settle_replaced_results(dir);
+    } catch (const std::exception&) {
+    }
+    throw;
+  }
+}
+
+int resume_run(const std::filesystem::path& dir, const RunOptions& options) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    throw InputError(dir.string() + ": not a folder of a run to resume");
+  const OutputLock lock(dir);
+  warn_if_any(settle_replaced_results(dir));
+  check_output_files(dir);
+  const Checkpoint cp = load_checkpoint(dir);
+  Scenario sc = parse_scenario(cp.scenario_text, (dir / "checkpoint.h5").string(), ".", {});
+  set_output_dir(sc, dir);
+  auto model = build_model(sc);
+  validate_checkpoint(cp, *model, dir / "checkpoint.h5");
+  model->run_id = cp.run_id;
+  return model->wear ? resume_wear(*model, cp, dir, options)
+                     : resume_steps(*model, cp, dir, options);
+}
+
+}  // namespace fretbem
