@@ -1,0 +1,50 @@
+// The frozen-slip linear solver of the implicit wear integrator's modified Newton iteration.
+#include <arkode/arkode_arkstep.h>
+
+#include "fretbem/core/errors.hpp"
+#include "ode_data.hpp"
+
+namespace fretbem::wear_detail {
+namespace {
+
+// A matrix-embedded SUNLinearSolver: the Newton correction of an implicit stage from the
+// frozen-slip Newton matrix, x = P^-1 b with P = I - gamma J~ (WearPreconditioner), linearised
+// at the latest evaluated iterate. One simulated cycle per Newton iteration (the residual), no
+// Jacobian-vector probes: a modified Newton iteration whose contraction rate is that of the
+// neglected slip sensitivity.
+struct FrozenSlipContent {
+  OdeData* data = nullptr;
+  void* arkode = nullptr;
+};
+
+SUNLinearSolver_Type frozen_type(SUNLinearSolver) {
+  return SUNLINEARSOLVER_MATRIX_EMBEDDED;
+}
+
+int frozen_solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, realtype) {
+  auto& c = *static_cast<FrozenSlipContent*>(S->content);
+  realtype gamma = 0.0;
+  ARKStepGetCurrentGamma(c.arkode, &gamma);
+  return newton_matrix_solve(*c.data, b, x, gamma) == 0 ? 0 : SUNLS_PSOLVE_FAIL_UNREC;
+}
+
+int frozen_free(SUNLinearSolver S) {
+  delete static_cast<FrozenSlipContent*>(S->content);
+  S->content = nullptr;
+  SUNLinSolFreeEmpty(S);
+  return 0;
+}
+
+}  // namespace
+
+SUNLinearSolver frozen_slip_solver(OdeData& d, void* arkode, SUNContext ctx) {
+  SUNLinearSolver S = SUNLinSolNewEmpty(ctx);
+  if (!S) throw SolverError("SUNDIALS: no linear solver");
+  S->content = new FrozenSlipContent{&d, arkode};
+  S->ops->gettype = frozen_type;
+  S->ops->solve = frozen_solve;
+  S->ops->free = frozen_free;
+  return S;
+}
+
+}  // namespace fretbem::wear_detail
