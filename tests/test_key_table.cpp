@@ -1,6 +1,7 @@
-// The scenario key table against the code that reads and writes scenarios and against the
-// README: every default is what the reader assumes and the writer writes, every choice and
-// range the reader applies is the table's, and the README lists every key with its default.
+// The declarative tables against the code and docs that use them. The scenario key table:
+// every default is what the reader assumes and the writer writes, every choice and range the
+// reader applies is the table's, and the README lists every key with its default. The output
+// field table: output.fields, result.h5's units, the README and tools/plot_fields.py.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,6 +14,8 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/output_fields.hpp"
+#include "fretbem/io/result_metadata.hpp"
 #include "fretbem/scenario/ignored_keys.hpp"
 #include "fretbem/scenario/key_table.hpp"
 #include "fretbem/scenario/scenario.hpp"
@@ -241,4 +244,99 @@ TEST(KeyTable, ReadmeListsEveryKeyWithItsDefault) {
       EXPECT_EQ(doc, k.default_value) << key;
     }
   }
+}
+
+// output.fields accepts exactly the table's selectable fields, in any order, and result.h5
+// describes every field with the table's unit and long name.
+TEST(OutputFieldTable, ScenarioAndResultMetadataUseIt) {
+  std::string all;
+  for (const auto& name : fretbem::selectable_field_names())
+    all += (all.empty() ? "" : ", ") + name;
+  EXPECT_EQ(parse(kMinimal, {"output.fields=" + all}).output.fields,
+            fretbem::selectable_field_names());
+  for (const fretbem::OutputField& f : fretbem::output_field_table()) {
+    const fretbem::io::FieldInfo info = fretbem::io::field_info(f.name);
+    EXPECT_EQ(info.units, f.units) << f.name;
+    EXPECT_EQ(info.long_name, f.long_name) << f.name;
+    EXPECT_EQ(info.flag, f.flag) << f.name;
+    if (!f.selectable) {
+      EXPECT_NE(error_of(kMinimal, {"output.fields=" + f.name}).find("unknown field"),
+                std::string::npos)
+          << f.name;
+    }
+  }
+  EXPECT_EQ(fretbem::io::field_info("no_such_field").units, "");
+}
+
+namespace {
+
+/// The table's unit in the README's and the plots' spelling.
+std::string udunits_of(const std::string& shown) {
+  static const std::map<std::string, std::string> known = {
+      {"Pa", "Pa"}, {"MPa", "Pa"}, {"m", "m"}, {"nm", "m"}, {"J/m²", "J m-2"}, {"–", "1"}};
+  return known.count(shown) ? known.at(shown) : "?" + shown;
+}
+
+}  // namespace
+
+// README "Outputs": each selectable field is in a row of the field table with its unit.
+TEST(OutputFieldTable, ReadmeListsEveryFieldWithItsUnit) {
+  std::ifstream in(fs::path(FRETBEM_SOURCE_DIR) / "README.md");
+  std::map<std::string, std::string> unit_of;
+  bool inside = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line == "| field | meaning | unit |") inside = true;
+    if (!inside) continue;
+    if (line.empty()) break;
+    if (line.rfind("| `", 0) != 0) continue;
+    const std::string first = line.substr(2, line.find(" | ") - 2);
+    const std::string unit =
+        line.substr(line.rfind(" | ") + 3, line.size() - line.rfind(" | ") - 5);
+    for (auto b = first.find('`'); b != std::string::npos; b = first.find('`', b + 1)) {
+      const auto e = first.find('`', b + 1);
+      unit_of[first.substr(b + 1, e - b - 1)] = unit;
+      b = e;
+    }
+  }
+  for (const fretbem::OutputField& f : fretbem::output_field_table()) {
+    if (!f.selectable) continue;
+    ASSERT_TRUE(unit_of.count(f.name)) << f.name << " is missing from the README field table";
+    EXPECT_EQ(udunits_of(unit_of.at(f.name)), f.units) << f.name;
+  }
+}
+
+// tools/plot_fields.py's UNITS: one entry per selectable field but state (drawn with its own
+// legend), each label's unit the table's unit scaled by the entry's factor.
+TEST(OutputFieldTable, PlotFieldsToolAgreesWithIt) {
+  std::ifstream in(fs::path(FRETBEM_SOURCE_DIR) / "tools" / "plot_fields.py");
+  static const std::map<std::string, double> factor_of = {
+      {"MPa", 1e-6}, {"nm", 1e9}, {"J/m²", 1.0}, {"Pa", 1.0}, {"m", 1.0}};
+  std::set<std::string> plotted;
+  bool inside = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("UNITS = {", 0) == 0) {
+      inside = true;
+      continue;
+    }
+    if (!inside) continue;
+    if (line == "}") break;
+    // '    "pressure": ("pressure (MPa)", 1e-6),'
+    const auto q1 = line.find('"'), q2 = line.find('"', q1 + 1);
+    const std::string name = line.substr(q1 + 1, q2 - q1 - 1);
+    const auto open = line.rfind('('), close = line.find(')', open);
+    const std::string shown = line.substr(open + 1, close - open - 1);
+    const double factor = std::stod(line.substr(line.rfind(',', line.size() - 2) + 1));
+    plotted.insert(name);
+    const auto it =
+        std::find_if(fretbem::output_field_table().begin(), fretbem::output_field_table().end(),
+                     [&](const fretbem::OutputField& f) { return f.name == name && f.selectable; });
+    ASSERT_NE(it, fretbem::output_field_table().end()) << "plot_fields.py plots " << name;
+    EXPECT_EQ(udunits_of(shown), it->units) << name;
+    ASSERT_TRUE(factor_of.count(shown)) << name << ": " << shown;
+    EXPECT_DOUBLE_EQ(factor, factor_of.at(shown)) << name;
+  }
+  for (const auto& name : fretbem::selectable_field_names())
+    if (name != "state") {
+      EXPECT_TRUE(plotted.count(name)) << name << " is not in UNITS";
+    }
 }

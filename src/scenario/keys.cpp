@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/output_fields.hpp"
 #include "fretbem/scenario/key_table.hpp"
 #include "value_reader.hpp"
 
@@ -18,8 +19,7 @@ const std::vector<std::string> kKeys = [] {
   return names;
 }();
 
-const std::vector<std::string> kFieldNames = {"pressure", "traction_x", "traction_y",  "state",
-                                              "slip_x",   "slip_y",     "dissipation", "wear"};
+const std::vector<std::string> kFieldNames = selectable_field_names();
 
 namespace {
 

@@ -269,6 +269,13 @@ void read_solver(const Reader& r, SolverSpec& s) {
   }
 }
 
+// "pressure, traction_x, ...": the names output.fields accepts.
+std::string field_list() {
+  std::string list;
+  for (const auto& f : kFieldNames) list += (list.empty() ? "" : ", ") + f;
+  return list;
+}
+
 std::vector<std::string> read_fields(const Reader& r) {
   std::vector<std::string> out;
   const std::string list = trim(r.raw("output.fields"));
@@ -276,9 +283,7 @@ std::vector<std::string> read_fields(const Reader& r) {
   for (const auto& f : csv::split_line(list)) {
     if (std::find(kFieldNames.begin(), kFieldNames.end(), f) == kFieldNames.end())
       r.fail_value("output.fields", "names an unknown field '" + printable(f) + "'" +
-                                        suggestion(f, kFieldNames) +
-                                        "; fields: pressure, traction_x, traction_y, state, "
-                                        "slip_x, slip_y, dissipation, wear");
+                                        suggestion(f, kFieldNames) + "; fields: " + field_list());
     if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
   }
   return out;
