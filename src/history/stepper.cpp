@@ -228,7 +228,7 @@ void Stepper::set_target(const LoadStep& ls, TangentialIncrement& inc) const {
 // constant normal load, with the one-component analogy operator.
 bool Stepper::shortcut_applies(std::size_t k) const {
   const Model& m = model_;
-  return m.scenario.solver.shortcut && !m.friction->evolves() &&
+  return m.scenario.solver.monotone == MonotoneMethod::shortcut && !m.friction->evolves() &&
          m.tangential_operator->components() == 1 &&
          m.scenario.solver.coupling == Coupling::analogy && m.path.monotone(0, k);
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "fretbem/core/hdf5.hpp"
+#include "fretbem/core/output_fields.hpp"
 
 namespace fretbem::io {
 
@@ -90,25 +91,9 @@ bool worth_compressing(hsize_t chunk_values) {
 }
 
 FieldInfo field_info(const std::string& name) {
-  static const std::map<std::string, FieldInfo> known{
-      {"pressure", {"Pa", "contact pressure"}},
-      {"traction_x", {"Pa", "shear traction, x component"}},
-      {"traction_y", {"Pa", "shear traction, y component"}},
-      {"state", {"1", "contact state (0 open, 1 stick, 2 slip)", true}},
-      {"slip_x", {"m", "accumulated slip, x component"}},
-      {"slip_y", {"m", "accumulated slip, y component"}},
-      {"dissipation", {"J m-2", "dissipated energy per unit area, cumulative"}},
-      {"wear", {"m", "worn depth, cumulative"}},
-      {"initial", {"m", "indenter height, peaks positive", false, true}},
-      {"final", {"m", "indenter height, peaks positive", false, true}},
-      {"final_half_space", {"m", "half-space surface height (worn), peaks positive"}},
-      {"final_worn_depth", {"m", "worn depth, both bodies"}},
-      {"final_worn_depth_indenter", {"m", "worn depth of the indenter"}},
-      {"final_worn_depth_half_space", {"m", "worn depth of the half-space"}},
-      {"worn_depth", {"m", "worn depth, both bodies"}},
-  };
-  const auto it = known.find(name);
-  return it == known.end() ? FieldInfo{} : it->second;
+  for (const OutputField& f : output_field_table())
+    if (f.name == name) return {f.units, f.long_name, f.flag, f.dense};
+  return {};
 }
 
 std::string column_units(const std::string& c) {

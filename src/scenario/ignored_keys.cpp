@@ -4,28 +4,26 @@
 #include <algorithm>
 #include <functional>
 
+#include "fretbem/scenario/key_table.hpp"
+
 namespace fretbem {
 
 namespace {
 
 const char* path_name(PathType p) {
-  static const char* names[] = {"none", "ramp", "sine", "table"};
-  return names[static_cast<int>(p)];
+  return choice_name("load.path", static_cast<std::size_t>(p)).c_str();
 }
 
 const char* surface_name(SurfaceType t) {
-  static const char* names[] = {"sphere", "flat", "rough", "file"};
-  return names[static_cast<int>(t)];
+  return choice_name("surface.type", static_cast<std::size_t>(t)).c_str();
 }
 
 const char* integrator_name(WearIntegrator i) {
-  static const char* names[] = {"arkode", "cycle", "erk", "dirk"};
-  return names[static_cast<int>(i)];
+  return choice_name("wear.integrator", static_cast<std::size_t>(i)).c_str();
 }
 
 const char* friction_name(FrictionLawKind k) {
-  static const char* names[] = {"constant", "static_kinetic", "evolving"};
-  return names[static_cast<int>(k)];
+  return choice_name("friction.law", static_cast<std::size_t>(k)).c_str();
 }
 
 bool scripted(const Scenario& sc) {

@@ -3,6 +3,8 @@
 #include <sstream>
 
 #include "fretbem/core/format.hpp"
+#include "fretbem/scenario/key_table.hpp"
+#include "keys.hpp"
 #include "sections.hpp"
 
 namespace fretbem::scenario_detail {
@@ -34,6 +36,11 @@ class IniWriter {
     else
       put(key, p.string());
   }
+  /// A choice key's value, spelled as the key table spells choice `index` of "section.key".
+  template <class Enum>
+  void put_choice(const std::string& key, Enum index) {
+    put(std::string(short_name(key)), choice_name(key, static_cast<std::size_t>(index)));
+  }
   void raw(const std::string& line) { out_ << line << "\n"; }
   std::string str() const { return out_.str(); }
 
@@ -64,14 +71,13 @@ void write_grid(IniWriter& w, const Grid& g, bool allow_edge_contact) {
 }
 
 void write_surface(IniWriter& w, const SurfaceSpec& s) {
-  static const char* types[] = {"sphere", "flat", "rough", "file"};
   w.section("surface");
-  w.put("type", std::string(types[static_cast<int>(s.type)]));
+  w.put_choice("surface.type", s.type);
   w.put("radius", s.radius > 0 ? std::optional<double>(s.radius) : std::nullopt);
   w.put("hurst", s.rough.hurst);
   w.put("rms_height", s.rough.rms_height);
   w.put("rms_slope", s.rough.rms_slope);
-  w.put("method", std::string(s.rough.method == RoughMethod::midpoint ? "midpoint" : "fourier"));
+  w.put_choice("surface.method", s.rough.method);
   w.put("seed", std::to_string(s.rough.seed));
   w.put("rolloff_wavelength", s.rough.rolloff_wavelength);
   w.put("cutoff_wavelength", s.rough.cutoff_wavelength);
@@ -80,17 +86,16 @@ void write_surface(IniWriter& w, const SurfaceSpec& s) {
     w.raw("# dataset = (unset)");
   else
     w.put("dataset", s.dataset);
-  w.put("layout", std::string(s.layout == HeightLayout::xy ? "xy" : "yx"));
+  w.put_choice("surface.layout", s.layout);
   w.put("spacing", s.spacing);
 }
 
 void write_load(IniWriter& w, const LoadSpec& l) {
-  static const char* paths[] = {"none", "ramp", "sine", "table"};
   w.section("load");
   w.put("normal_force", l.normal_force);
   w.put("indentation", l.indentation);
-  w.put("path", std::string(paths[static_cast<int>(l.path)]));
-  w.put("control", std::string(l.control == Control::force ? "force" : "displacement"));
+  w.put_choice("load.path", l.path);
+  w.put_choice("load.control", l.control);
   w.put("amplitude", l.amplitude);
   w.put("displacement_amplitude", l.displacement_amplitude);
   w.put("direction", l.direction);
@@ -105,8 +110,7 @@ void write_solver(IniWriter& w, const SolverSpec& s) {
   w.section("solver");
   w.put("tolerance", s.tolerance);
   w.put("max_iterations", s.max_iterations);
-  static const char* const couplings[] = {"analogy", "cerruti", "coupled"};
-  w.put("coupling", std::string(couplings[int(s.coupling)]));
+  w.put_choice("solver.coupling", s.coupling);
   // Only coupled runs name these: resolved texts (and checkpoints) of other runs carry no keys
   // they do not use.
   if (s.coupling == Coupling::coupled) {
@@ -114,20 +118,15 @@ void write_solver(IniWriter& w, const SolverSpec& s) {
     w.put("coupling_iterations", s.coupling_iterations);
   }
   w.put("threads", s.threads);
-  w.put("algorithm",
-        std::string(s.algorithm == TangentialAlgorithm::projected ? "projected" : "partition"));
-  w.put("stiffness", std::string(s.stiffness == StiffnessMode::every     ? "every"
-                                 : s.stiffness == StiffnessMode::turning ? "turning"
-                                                                         : "none"));
-  static constexpr const char* kPlans[] = {"auto", "estimate", "measure"};
-  w.put("fft_plan", std::string(kPlans[int(s.fft_plan)]));
-  w.put("fft_precision",
-        std::string(s.fft_precision == FftPrecision::float32 ? "float" : "double"));
-  w.put("monotone", std::string(s.shortcut ? "shortcut" : "incremental"));
+  w.put_choice("solver.algorithm", s.algorithm);
+  w.put_choice("solver.stiffness", s.stiffness);
+  w.put_choice("solver.fft_plan", s.fft_plan);
+  w.put_choice("solver.fft_precision", s.fft_precision);
+  w.put_choice("solver.monotone", s.monotone);
   // Written only when not the default (auto): resolved scenarios of default runs carry no
   // predictor key (and a checkpoint written without the key resumes with auto).
-  if (s.predictor != PredictorMode::automatic)
-    w.put("predictor", std::string(s.predictor == PredictorMode::cycle ? "cycle" : "none"));
+  if (s.predictor != PredictorMode::automatic) w.put_choice("solver.predictor", s.predictor);
+  // The table spells the choices automatic|on|off, not in Precondition's order.
   w.put("precondition", std::string(s.precondition == Precondition::automatic ? "automatic"
                                     : s.precondition == Precondition::on      ? "on"
                                                                               : "off"));
@@ -144,28 +143,24 @@ void write_output(IniWriter& w, const OutputSpec& o) {
 }
 
 void write_wear(IniWriter& w, const WearSpec& s) {
-  static const char* laws[] = {"none", "archard", "energy"};
   w.section("wear");
-  w.put("law", std::string(laws[static_cast<int>(s.law)]));
+  w.put_choice("wear.law", s.law);
   // 0 means "not given" (both must be > 0 when given).
   w.put("coefficient", s.coefficient > 0 ? std::optional<double>(s.coefficient) : std::nullopt);
   w.put("cycles", s.cycles > 0 ? std::optional<double>(s.cycles) : std::nullopt);
-  static const char* integrators[] = {"arkode", "cycle", "erk", "dirk"};
-  w.put("integrator", std::string(integrators[static_cast<int>(s.integrator)]));
+  w.put_choice("wear.integrator", s.integrator);
   w.put("rtol", s.rtol);
   w.put("atol", s.atol > 0 ? std::optional<double>(s.atol) : std::nullopt);  // 0: not given
-  w.put("newton", std::string(s.newton == WearNewton::frozen ? "frozen" : "krylov"));
+  w.put_choice("wear.newton", s.newton);
   w.put("indenter_share", s.indenter_share);
 }
 
 void write_friction(IniWriter& w, const FrictionSpec& f) {
-  static const char* laws[] = {"constant", "static_kinetic", "evolving"};
   w.section("friction");
-  w.put("law", std::string(laws[static_cast<int>(f.law)]));
+  w.put_choice("friction.law", f.law);
   w.put("mu_kinetic", f.mu_kinetic > 0 ? std::optional<double>(f.mu_kinetic) : std::nullopt);
   w.put("mu_final", f.mu_final > 0 ? std::optional<double>(f.mu_final) : std::nullopt);
-  w.put("evolution",
-        std::string(f.variable == FrictionVariable::dissipation ? "dissipation" : "slip_path"));
+  w.put_choice("friction.evolution", f.evolution);
   w.put("scale", f.scale > 0 ? std::optional<double>(f.scale) : std::nullopt);
 }
 

@@ -1,88 +1,25 @@
-// The key table and the nearest-name suggestions (README "Scenario files").
+// The key names (from the key table, key_table.cpp) and the nearest-name suggestions.
 #include "keys.hpp"
 
 #include <algorithm>
 #include <limits>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/output_fields.hpp"
+#include "fretbem/scenario/key_table.hpp"
 #include "value_reader.hpp"
 
 namespace fretbem::scenario_detail {
 
-const std::vector<std::string> kSections = {"material", "grid",   "surface", "load",
-                                            "solver",   "output", "wear",    "friction"};
+const std::vector<std::string> kSections = scenario_sections();
 
-const std::vector<std::string> kKeys = {
-    "material.E",
-    "material.nu",
-    "material.E2",
-    "material.nu2",
-    "material.mu",
-    "grid.n",
-    "grid.nx",
-    "grid.ny",
-    "grid.length",
-    "grid.periodic",
-    "grid.allow_edge_contact",
-    "surface.type",
-    "surface.radius",
-    "surface.hurst",
-    "surface.rms_height",
-    "surface.rms_slope",
-    "surface.method",
-    "surface.seed",
-    "surface.rolloff_wavelength",
-    "surface.cutoff_wavelength",
-    "surface.file",
-    "surface.dataset",
-    "surface.layout",
-    "surface.spacing",
-    "load.normal_force",
-    "load.indentation",
-    "load.path",
-    "load.control",
-    "load.amplitude",
-    "load.displacement_amplitude",
-    "load.direction",
-    "load.cycles",
-    "load.steps_per_cycle",
-    "load.steps",
-    "load.table",
-    "load.allow_large_shift",
-    "solver.tolerance",
-    "solver.max_iterations",
-    "solver.coupling",
-    "solver.coupling_tolerance",
-    "solver.coupling_iterations",
-    "solver.threads",
-    "solver.algorithm",
-    "solver.stiffness",
-    "solver.fft_plan",
-    "solver.fft_precision",
-    "solver.precondition",
-    "solver.monotone",
-    "solver.predictor",
-    "output.dir",
-    "output.fields",
-    "output.fields_every",
-    "output.checkpoint_every",
-    "wear.law",
-    "wear.coefficient",
-    "wear.cycles",
-    "wear.integrator",
-    "wear.rtol",
-    "wear.atol",
-    "wear.newton",
-    "wear.indenter_share",
-    "friction.law",
-    "friction.mu_kinetic",
-    "friction.mu_final",
-    "friction.evolution",
-    "friction.scale",
-};
+const std::vector<std::string> kKeys = [] {
+  std::vector<std::string> names;
+  for (const ScenarioKey& k : scenario_keys()) names.emplace_back(k.key);
+  return names;
+}();
 
-const std::vector<std::string> kFieldNames = {"pressure", "traction_x", "traction_y",  "state",
-                                              "slip_x",   "slip_y",     "dissipation", "wear"};
+const std::vector<std::string> kFieldNames = selectable_field_names();
 
 namespace {
 

@@ -9,7 +9,7 @@
 namespace fretbem::scenario_detail {
 
 extern const std::vector<std::string> kSections;
-/// Every key a scenario may hold, in the order resolved_text writes them.
+/// Every key a scenario may hold, in the key table's order (the names of scenario_keys()).
 extern const std::vector<std::string> kKeys;
 extern const std::vector<std::string> kFieldNames;
 

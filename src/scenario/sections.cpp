@@ -11,6 +11,7 @@
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/scenario/key_table.hpp"
 #include "keys.hpp"
 
 namespace fretbem::scenario_detail {
@@ -19,20 +20,15 @@ namespace po = boost::program_options;
 
 namespace {
 
-// Grid limits keep nx*ny and the 2nx x 2ny padded FFT grid inside a 32-bit int index.
-constexpr long long kMaxSide = 65536;
+// nx*ny and the 2nx x 2ny padded FFT grid stay inside a 32-bit int index.
 constexpr long long kMaxNodes = 1LL << 28;
-
-// 0 means "none" for the wavelength keys; anything else is a dimensional value.
-double zero_or_magnitude(const Reader& r, const std::string& key) {
-  return r.real_in(key, 0.0, false) == 0.0 ? 0.0 : r.magnitude(key);
-}
 
 }  // namespace
 
 void read_file_entries(const std::string& text, Reader& r) {
   po::options_description desc;
-  for (const auto& k : kKeys) desc.add_options()(k.c_str(), po::value<std::string>());
+  for (const auto& k : scenario_keys())
+    desc.add_options()(std::string(k.key).c_str(), po::value<std::string>());
   std::istringstream in(text);
   po::parsed_options parsed(&desc);
   try {
@@ -67,20 +63,19 @@ void apply_override(const std::string& text, Reader& r) {
 void read_material(const Reader& r, Material& m) {
   r.require("material.E");
   r.require("material.nu");
-  m.body1 = Body{r.magnitude("material.E"), r.real_in("material.nu", 0.0, false, 0.5, true)};
+  m.body1 = Body{r.number("material.E"), r.number("material.nu")};
   if (r.has("material.E2") != r.has("material.nu2"))
     r.fail("material.E2 and material.nu2 describe the second body: give both or neither");
-  if (r.has("material.E2"))
-    m.body2 = Body{r.magnitude("material.E2"), r.real_in("material.nu2", 0.0, false, 0.5, true)};
-  if (r.has("material.mu")) m.mu = r.magnitude("material.mu");
+  if (r.has("material.E2")) m.body2 = Body{r.number("material.E2"), r.number("material.nu2")};
+  if (r.has("material.mu")) m.mu = r.number("material.mu");
 }
 
 void read_grid(const Reader& r, Grid& g) {
   const bool both = r.has("grid.nx") && r.has("grid.ny");
   if (!both) r.require("grid.n", " (or both grid.nx and grid.ny)");
-  const long long n = r.has("grid.n") ? r.integer("grid.n", 2, kMaxSide) : 0;
-  const long long nx = r.has("grid.nx") ? r.integer("grid.nx", 2, kMaxSide) : n;
-  const long long ny = r.has("grid.ny") ? r.integer("grid.ny", 2, kMaxSide) : n;
+  const long long n = r.has("grid.n") ? r.count("grid.n") : 0;
+  const long long nx = r.has("grid.nx") ? r.count("grid.nx") : n;
+  const long long ny = r.has("grid.ny") ? r.count("grid.ny") : n;
   // grid.nx and grid.ny together define the grid (an override of a file's grid.n); one of them
   // beside a different grid.n is ambiguous (n = 32, nx = 16: 16 x 32 or 16 x 16?).
   if (r.has("grid.n") && !both)
@@ -92,22 +87,21 @@ void read_grid(const Reader& r, Grid& g) {
     r.fail("grid of " + std::to_string(nx) + " x " + std::to_string(ny) +
            " nodes is too large (at most 2^28 nodes)");
   r.require("grid.length");
-  const double length = r.magnitude("grid.length");
+  const double length = r.number("grid.length");
   g = Grid{static_cast<int>(nx), static_cast<int>(ny), length / static_cast<double>(nx),
            r.has("grid.periodic") && r.boolean("grid.periodic")};
 }
 
 void read_rough(const Reader& r, RoughSpec& s) {
-  if (r.has("surface.hurst")) s.hurst = r.real_in("surface.hurst", 0.0, true, 1.0, false);
-  if (r.has("surface.rms_height")) s.rms_height = r.magnitude("surface.rms_height");
-  if (r.has("surface.rms_slope")) s.rms_slope = r.magnitude("surface.rms_slope");
-  if (r.has("surface.method"))
-    s.method = static_cast<RoughMethod>(r.choice("surface.method", {"midpoint", "fourier"}));
+  if (r.has("surface.hurst")) s.hurst = r.number("surface.hurst");
+  if (r.has("surface.rms_height")) s.rms_height = r.number("surface.rms_height");
+  if (r.has("surface.rms_slope")) s.rms_slope = r.number("surface.rms_slope");
+  if (r.has("surface.method")) s.method = static_cast<RoughMethod>(r.option("surface.method"));
   if (r.has("surface.seed")) s.seed = r.unsigned64("surface.seed");
   if (r.has("surface.rolloff_wavelength"))
-    s.rolloff_wavelength = zero_or_magnitude(r, "surface.rolloff_wavelength");
+    s.rolloff_wavelength = r.number("surface.rolloff_wavelength");
   if (r.has("surface.cutoff_wavelength"))
-    s.cutoff_wavelength = zero_or_magnitude(r, "surface.cutoff_wavelength");
+    s.cutoff_wavelength = r.number("surface.cutoff_wavelength");
 }
 
 void check_rough(const Reader& r, const RoughSpec& s) {
@@ -124,15 +118,12 @@ void check_rough(const Reader& r, const RoughSpec& s) {
 }
 
 void read_surface(const Reader& r, const fs::path& base, SurfaceSpec& s) {
-  if (r.has("surface.type"))
-    s.type =
-        static_cast<SurfaceType>(r.choice("surface.type", {"sphere", "flat", "rough", "file"}));
-  if (r.has("surface.radius")) s.radius = r.magnitude("surface.radius");
+  if (r.has("surface.type")) s.type = static_cast<SurfaceType>(r.option("surface.type"));
+  if (r.has("surface.radius")) s.radius = r.number("surface.radius");
   read_rough(r, s.rough);
   if (r.has("surface.dataset")) s.dataset = r.raw("surface.dataset");
-  if (r.has("surface.spacing")) s.spacing = r.magnitude("surface.spacing");
-  if (r.has("surface.layout"))
-    s.layout = static_cast<HeightLayout>(r.choice("surface.layout", {"yx", "xy"}));
+  if (r.has("surface.spacing")) s.spacing = r.number("surface.spacing");
+  if (r.has("surface.layout")) s.layout = static_cast<HeightLayout>(r.option("surface.layout"));
   const bool is_file = s.type == SurfaceType::file;
   if (r.has("surface.file")) s.file = r.path("surface.file", base, is_file);
   if (s.type == SurfaceType::sphere) r.require("surface.radius", " for surface.type = sphere");
@@ -177,21 +168,18 @@ void check_table(const Reader& r, const LoadSpec& l) {
 }
 
 void read_load_values(const Reader& r, const fs::path& base, LoadSpec& l) {
-  if (r.has("load.normal_force")) l.normal_force = r.magnitude("load.normal_force");
-  if (r.has("load.indentation")) l.indentation = r.magnitude("load.indentation");
-  if (r.has("load.path"))
-    l.path = static_cast<PathType>(r.choice("load.path", {"none", "ramp", "sine", "table"}));
-  if (r.has("load.control"))
-    l.control = static_cast<Control>(r.choice("load.control", {"force", "displacement"}));
-  if (r.has("load.amplitude")) l.amplitude = r.real("load.amplitude");
+  if (r.has("load.normal_force")) l.normal_force = r.number("load.normal_force");
+  if (r.has("load.indentation")) l.indentation = r.number("load.indentation");
+  if (r.has("load.path")) l.path = static_cast<PathType>(r.option("load.path"));
+  if (r.has("load.control")) l.control = static_cast<Control>(r.option("load.control"));
+  if (r.has("load.amplitude")) l.amplitude = r.number("load.amplitude");
   if (r.has("load.displacement_amplitude"))
-    l.displacement_amplitude = r.real("load.displacement_amplitude");
-  // Degrees; past 1e6 the angle reduced mod 360 keeps fewer than 10 digits.
-  if (r.has("load.direction")) l.direction = r.real_in("load.direction", -1e6, false, 1e6, false);
-  if (r.has("load.cycles")) l.cycles = static_cast<int>(r.integer("load.cycles", 1, 1 << 30));
+    l.displacement_amplitude = r.number("load.displacement_amplitude");
+  if (r.has("load.direction")) l.direction = r.number("load.direction");
+  if (r.has("load.cycles")) l.cycles = static_cast<int>(r.count("load.cycles"));
   if (r.has("load.steps_per_cycle"))
-    l.steps_per_cycle = static_cast<int>(r.integer("load.steps_per_cycle", 4, 1 << 30));
-  if (r.has("load.steps")) l.steps = static_cast<int>(r.integer("load.steps", 1, 1 << 30));
+    l.steps_per_cycle = static_cast<int>(r.count("load.steps_per_cycle"));
+  if (r.has("load.steps")) l.steps = static_cast<int>(r.count("load.steps"));
   if (r.has("load.table")) l.table = r.path("load.table", base, l.path == PathType::table);
   if (r.has("load.allow_large_shift")) l.allow_large_shift = r.boolean("load.allow_large_shift");
 }
@@ -237,51 +225,35 @@ StiffnessMode read_stiffness(const Reader& r) {
   const std::string v = lower(r.raw("solver.stiffness"));
   if (std::find(booleans.begin(), booleans.end(), v) != booleans.end())
     return r.boolean("solver.stiffness") ? StiffnessMode::every : StiffnessMode::none;
-  static constexpr StiffnessMode modes[] = {StiffnessMode::every, StiffnessMode::turning,
-                                            StiffnessMode::none};
-  return modes[r.choice("solver.stiffness", {"every", "turning", "none"})];
+  return static_cast<StiffnessMode>(r.option("solver.stiffness"));
 }
 
 void read_solver(const Reader& r, SolverSpec& s) {
-  if (r.has("solver.tolerance"))
-    // Below 1e-14 no solve can get: round-off of the double sums over the grid leaves relative
-    // residuals of ~6e-15 already at n = 16 (1e-300 ran 5000 iterations into exit 3).
-    s.tolerance = r.real_in("solver.tolerance", 1e-14, false, 1e-2, false);
+  if (r.has("solver.tolerance")) s.tolerance = r.number("solver.tolerance");
   if (r.has("solver.max_iterations"))
-    s.max_iterations = static_cast<int>(r.integer("solver.max_iterations", 1, 1 << 30));
-  if (r.has("solver.coupling"))
-    s.coupling =
-        static_cast<Coupling>(r.choice("solver.coupling", {"analogy", "cerruti", "coupled"}));
+    s.max_iterations = static_cast<int>(r.count("solver.max_iterations"));
+  if (r.has("solver.coupling")) s.coupling = static_cast<Coupling>(r.option("solver.coupling"));
   if (r.has("solver.coupling_tolerance"))
-    s.coupling_tolerance = r.real_in("solver.coupling_tolerance", 0.0, true, 1e-1, false);
+    s.coupling_tolerance = r.number("solver.coupling_tolerance");
   if (r.has("solver.coupling_iterations"))
-    s.coupling_iterations = static_cast<int>(r.integer("solver.coupling_iterations", 1, 100000));
-  if (r.has("solver.threads")) s.threads = static_cast<int>(r.integer("solver.threads", 0, 4096));
+    s.coupling_iterations = static_cast<int>(r.count("solver.coupling_iterations"));
+  if (r.has("solver.threads")) s.threads = static_cast<int>(r.count("solver.threads"));
   if (r.has("solver.algorithm"))
-    s.algorithm =
-        static_cast<TangentialAlgorithm>(r.choice("solver.algorithm", {"projected", "partition"}));
+    s.algorithm = static_cast<TangentialAlgorithm>(r.option("solver.algorithm"));
   if (r.has("solver.stiffness")) s.stiffness = read_stiffness(r);
-  if (r.has("solver.fft_plan")) {
-    static constexpr FftPlanning kinds[] = {FftPlanning::automatic, FftPlanning::estimate,
-                                            FftPlanning::measure};
-    s.fft_plan = kinds[r.choice("solver.fft_plan", {"auto", "estimate", "measure"})];
-  }
+  if (r.has("solver.fft_plan")) s.fft_plan = static_cast<FftPlanning>(r.option("solver.fft_plan"));
   if (r.has("solver.monotone"))
-    s.shortcut = r.choice("solver.monotone", {"incremental", "shortcut"}) == 1;
-  if (r.has("solver.predictor")) {
-    static constexpr PredictorMode kinds[] = {PredictorMode::automatic, PredictorMode::none,
-                                              PredictorMode::cycle};
-    s.predictor = kinds[r.choice("solver.predictor", {"auto", "none", "cycle"})];
-  }
+    s.monotone = static_cast<MonotoneMethod>(r.option("solver.monotone"));
+  if (r.has("solver.predictor"))
+    s.predictor = static_cast<PredictorMode>(r.option("solver.predictor"));
   if (r.has("solver.precondition")) {
+    // The table spells the choices automatic|on|off (the README's order).
     static constexpr Precondition kinds[] = {Precondition::automatic, Precondition::on,
                                              Precondition::off};
-    s.precondition = kinds[r.choice("solver.precondition", {"automatic", "on", "off"})];
+    s.precondition = kinds[r.option("solver.precondition")];
   }
   if (r.has("solver.fft_precision"))
-    s.fft_precision = r.choice("solver.fft_precision", {"double", "float"}) == 1
-                          ? FftPrecision::float32
-                          : FftPrecision::float64;
+    s.fft_precision = static_cast<FftPrecision>(r.option("solver.fft_precision"));
   // Float convolutions put a round-off floor under every residual. Without an explicit
   // tolerance the floor is the default (written to the resolved scenario); an explicit one
   // below it is refused here, so `fretbem check` catches it and no solve stagnates to
@@ -297,6 +269,13 @@ void read_solver(const Reader& r, SolverSpec& s) {
   }
 }
 
+// "pressure, traction_x, ...": the names output.fields accepts.
+std::string field_list() {
+  std::string list;
+  for (const auto& f : kFieldNames) list += (list.empty() ? "" : ", ") + f;
+  return list;
+}
+
 std::vector<std::string> read_fields(const Reader& r) {
   std::vector<std::string> out;
   const std::string list = trim(r.raw("output.fields"));
@@ -304,9 +283,7 @@ std::vector<std::string> read_fields(const Reader& r) {
   for (const auto& f : csv::split_line(list)) {
     if (std::find(kFieldNames.begin(), kFieldNames.end(), f) == kFieldNames.end())
       r.fail_value("output.fields", "names an unknown field '" + printable(f) + "'" +
-                                        suggestion(f, kFieldNames) +
-                                        "; fields: pressure, traction_x, traction_y, state, "
-                                        "slip_x, slip_y, dissipation, wear");
+                                        suggestion(f, kFieldNames) + "; fields: " + field_list());
     if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
   }
   return out;
@@ -319,32 +296,21 @@ void read_output(const Reader& r, OutputSpec& o) {
   }
   if (r.has("output.fields")) o.fields = read_fields(r);
   if (r.has("output.fields_every"))
-    o.fields_every = static_cast<int>(r.integer("output.fields_every", 0, 1 << 30));
+    o.fields_every = static_cast<int>(r.count("output.fields_every"));
   if (r.has("output.checkpoint_every"))
-    o.checkpoint_every = static_cast<int>(r.integer("output.checkpoint_every", 0, 1 << 30));
+    o.checkpoint_every = static_cast<int>(r.count("output.checkpoint_every"));
 }
 
 void read_wear(const Reader& r, WearSpec& w) {
-  if (r.has("wear.law"))
-    w.law = static_cast<WearLaw>(r.choice("wear.law", {"none", "archard", "energy"}));
-  if (r.has("wear.coefficient")) w.coefficient = r.magnitude("wear.coefficient");
-  // The wear ODE runs in cycles with the rate averaged over one cycle: under one cycle there is
-  // no cycle to average (1e-300 failed inside ARKODE, flag -22), and past 2^53 the cycle count
-  // is no longer an exact double.
-  if (r.has("wear.cycles"))
-    w.cycles = r.real_in("wear.cycles", 1.0, false, 9007199254740992.0, false);
+  if (r.has("wear.law")) w.law = static_cast<WearLaw>(r.option("wear.law"));
+  if (r.has("wear.coefficient")) w.coefficient = r.number("wear.coefficient");
+  if (r.has("wear.cycles")) w.cycles = r.number("wear.cycles");
   if (r.has("wear.integrator"))
-    w.integrator = static_cast<WearIntegrator>(
-        r.choice("wear.integrator", {"arkode", "cycle", "erk", "dirk"}));
-  // Measured on fretting_wear at n = 32, dirk, N = 1e5: rtol = 1 puts the worn
-  // depth 3.5 % off, 1e300 3.8 times (exit 0); 1e-300 fails inside ARKODE. 1e-14 runs.
-  if (r.has("wear.rtol"))
-    w.rtol = r.real_in("wear.rtol", kMinWearRelTolerance, false, kMaxWearRelTolerance, false);
-  if (r.has("wear.atol")) w.atol = r.magnitude("wear.atol");
-  if (r.has("wear.newton"))
-    w.newton = static_cast<WearNewton>(r.choice("wear.newton", {"frozen", "krylov"}));
-  if (r.has("wear.indenter_share"))
-    w.indenter_share = r.real_in("wear.indenter_share", 0.0, false, 1.0, false);
+    w.integrator = static_cast<WearIntegrator>(r.option("wear.integrator"));
+  if (r.has("wear.rtol")) w.rtol = r.number("wear.rtol");
+  if (r.has("wear.atol")) w.atol = r.number("wear.atol");
+  if (r.has("wear.newton")) w.newton = static_cast<WearNewton>(r.option("wear.newton"));
+  if (r.has("wear.indenter_share")) w.indenter_share = r.number("wear.indenter_share");
   if (w.law == WearLaw::none) return;
   r.require("wear.coefficient", " when wear.law is not none");
   r.require("wear.cycles", " when wear.law is not none");
@@ -353,15 +319,12 @@ void read_wear(const Reader& r, WearSpec& w) {
 }
 
 void read_friction(const Reader& r, const LoadSpec& l, double mu, FrictionSpec& f) {
-  if (r.has("friction.law"))
-    f.law = static_cast<FrictionLawKind>(
-        r.choice("friction.law", {"constant", "static_kinetic", "evolving"}));
-  if (r.has("friction.mu_kinetic")) f.mu_kinetic = r.magnitude("friction.mu_kinetic");
-  if (r.has("friction.mu_final")) f.mu_final = r.magnitude("friction.mu_final");
+  if (r.has("friction.law")) f.law = static_cast<FrictionLawKind>(r.option("friction.law"));
+  if (r.has("friction.mu_kinetic")) f.mu_kinetic = r.number("friction.mu_kinetic");
+  if (r.has("friction.mu_final")) f.mu_final = r.number("friction.mu_final");
   if (r.has("friction.evolution"))
-    f.variable =
-        static_cast<FrictionVariable>(r.choice("friction.evolution", {"dissipation", "slip_path"}));
-  if (r.has("friction.scale")) f.scale = r.magnitude("friction.scale");
+    f.evolution = static_cast<FrictionVariable>(r.option("friction.evolution"));
+  if (r.has("friction.scale")) f.scale = r.number("friction.scale");
   double lowest = mu;
   if (f.law == FrictionLawKind::static_kinetic) {
     r.require("friction.mu_kinetic", " for friction.law = static_kinetic");

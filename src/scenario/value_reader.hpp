@@ -146,6 +146,13 @@ class Reader {
     fail_value(key, "is not one of " + list + suggestion(s, choices));
   }
 
+  /// The value of a real, magnitude or wavelength key, checked against the key table's range.
+  double number(const std::string& key) const;
+  /// The value of an integer key, checked against the key table's range.
+  long long count(const std::string& key) const;
+  /// The index of a choice key's value among the key table's choices.
+  std::size_t option(const std::string& key) const;
+
   /// Path resolved against base; optionally required to be an existing regular file.
   fs::path path(const std::string& key, const fs::path& base, bool must_exist) const {
     const std::string& s = raw(key);

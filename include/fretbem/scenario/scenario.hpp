@@ -28,6 +28,8 @@ enum class StiffnessMode { every, turning, none };
 enum class PredictorMode { automatic, none, cycle };
 /// solver.fft_plan: how FFTW plans are chosen (Scenario::Solver::fft_plan).
 enum class FftPlanning { automatic, estimate, measure };
+/// solver.monotone: how virgin monotone segments are solved.
+enum class MonotoneMethod { incremental, shortcut };
 enum class WearLaw { none, archard, energy };
 /// arkode: erk or dirk, whichever the run's length against the explicit stability cap favours.
 enum class WearIntegrator { arkode, cycle, erk, dirk };
@@ -91,9 +93,9 @@ struct SolverSpec {
   /// float32: single-precision convolutions (opt-in; the default tolerance is then
   /// kFloatFftMinTolerance and smaller ones are refused).
   FftPrecision fft_precision = FftPrecision::float64;
-  /// Virgin monotone segments at constant normal load by the Ciavarella–Jäger superposition
-  /// (analogy, collinear paths) instead of incremental solves.
-  bool shortcut = false;
+  /// shortcut: virgin monotone segments at constant normal load by the Ciavarella–Jäger
+  /// superposition (analogy, collinear paths) instead of incremental solves.
+  MonotoneMethod monotone = MonotoneMethod::incremental;
   /// solver.predictor: cycle: a tangential increment also tries, as its start, the traction of
   /// the same step one load cycle earlier (the step with the same previous and current load);
   /// none: it does not; automatic (the default): cycle where it is safe (use_cycle_predictor).
@@ -143,7 +145,7 @@ struct FrictionSpec {
   FrictionLawKind law = FrictionLawKind::constant;
   double mu_kinetic = 0.0;  ///< static_kinetic: mu once a node slips (material.mu: while stuck)
   double mu_final = 0.0;    ///< evolving: mu after a long history (material.mu: at the start)
-  FrictionVariable variable = FrictionVariable::dissipation;
+  FrictionVariable evolution = FrictionVariable::dissipation;  ///< friction.evolution
   double scale = 0.0;  ///< evolving: J/m^2 or m over which mu moves 1 - 1/e of the way
 };
 
