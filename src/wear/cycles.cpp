@@ -1,10 +1,10 @@
 // WearCycles: simulated cycles of the scenario's load path on a frozen surface (see
 // wear_integrator.hpp for why the surface changes only between cycles).
 #include <cmath>
-#include <numbers>
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/history/cycle_summary.hpp"
 #include "fretbem/wear/integrator.hpp"
 
 namespace fretbem {
@@ -247,42 +247,28 @@ void WearCycles::apply(const Field& rate) {
   stepper_.surface_changed();
 }
 
-// Runs `steps` (row times shifted by t_shift) and measures the cycle: its worn depth is the
-// growth of the stepper's worn-depth field over these steps.
+// Runs `steps` (row times shifted by t_shift) and measures the cycle (CycleMeter,
+// history/cycle_summary.hpp): its worn depth is the growth of the stepper's worn-depth field
+// over these steps.
 WearCycle WearCycles::measure(double N, const std::vector<LoadStep>& steps, double t_shift) {
   const InterfaceState& s = stepper_.state();
-  const Field wear0 = s.wear, path0 = s.slip_path;
+  const Field wear0 = s.wear;
   const Field worn = model_.surface0 - model_.surface;
-  double diss0 = stepper_.memory().dissipation;
+  CycleMeter meter(stepper_.memory().dissipation, s.slip_path);
   stepper_.set_wear_cycle(N);  // named in a solver failure's message
+  for (const auto& ls : steps) meter.add(step(ls, ls.time + t_shift, true), s, ls.time);
+  const CycleMeasures m = meter.finish(stepper_.memory().dissipation, s);
   WearCycle c;
   c.N = N;
-  c.stick_area = INFINITY;
-  // The row's indentation, contact radius and peak pressure are those at the period's end
-  // (phase 0), which a carried cycle ends on and a steady loop passes through; under a varying
-  // normal load its last step (the first turning point) is at another load, so an ODE row and
-  // a cycle row of the same surface disagreed (by 1.6x the max worn depth in delta,
-  // tools/bench/wear_sweep.py, table with Fz 10/12/8/12 N). A merged-away period end lies
-  // inside a monotone segment at constant normal load: then the last step stands for it.
-  double contact = 0.0;
-  bool at_phase0 = false;
-  for (const auto& ls : steps) {
-    const StepRecord r = step(ls, ls.time + t_shift, true);
-    c.stick_area = std::min(c.stick_area, r.stick_area);
-    if (at_phase0) continue;
-    contact = r.contact_area;
-    c.delta = r.delta;
-    c.peak_pressure = s.pressure.maxCoeff();
-    at_phase0 = std::abs(ls.time - std::round(ls.time)) <= 1e-9;
-  }
   c.rate = s.wear - wear0;
-  c.energy = stepper_.memory().dissipation - diss0;
+  c.energy = m.energy;
   c.wear_volume = worn.sum() * model_.scenario.grid.cell_area();
   c.max_depth = worn.maxCoeff();
-  c.contact_radius = std::sqrt(contact / std::numbers::pi);
-  // Stability of explicit steps involves only nodes in contact (a separated node neither
-  // wears nor passes load on), so the largest slip is taken over them.
-  c.max_slip = ((s.pressure > 0.0).cast<double>() * (s.slip_path - path0)).maxCoeff();
+  c.contact_radius = m.contact_radius;
+  c.stick_area = m.stick_area;
+  c.peak_pressure = m.peak_pressure;
+  c.delta = m.delta;
+  c.max_slip = m.max_slip;
   ++index_;
   ++evaluations_;
   return c;

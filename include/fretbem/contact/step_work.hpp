@@ -1,5 +1,5 @@
 // StepWork: the frictional work of one load step per node and the quadrature of the Coulomb
-// bound along the step's slip that gives it. The dissipation and both wear laws (wear/law.hpp)
+// bound along the step's slip that gives it. The dissipation and both wear laws (wear_law/law.hpp)
 // take this one quadrature, so that with a constant mu Archard's worn depth is (k / mu) x the
 // work and the energy law's alpha x the work, to round-off.
 #pragma once

@@ -1,12 +1,16 @@
-// Per-cycle results of a load history (the rows of DIR/cycles.csv, also the Python stepper's
-// `cycles`): energy dissipated, loop area, amplitudes, k_x and slip at the turning points, and
-// the resolution at the load peaks, accumulated from the steps' records.
+// Per-cycle results of a load history, the one home of what a run measures per cycle: a
+// stepped run's (the rows of DIR/cycles.csv, also the Python stepper's `cycles`: energy
+// dissipated, loop area, amplitudes, k_x and slip at the turning points, the resolution at the
+// load peaks, accumulated from the steps' records) and a wear run's simulated cycles (energy,
+// stick area, indentation, contact radius, peak pressure and slip, from the steps' records and
+// states; wear/cycles.cpp adds the worn depth).
 #pragma once
 
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "fretbem/contact/interface_state.hpp"
 #include "fretbem/history/load_path.hpp"
 #include "fretbem/history/observables.hpp"
 
@@ -67,6 +71,37 @@ class CycleAccumulator {
   long ring_nodes_ = 0;
   bool ring_at_peak_ = false;
   int steps_ = 0;
+};
+
+/// What one simulated wear cycle measures from its steps. Energies in J, areas in m^2,
+/// lengths in m, pressures in Pa.
+struct CycleMeasures {
+  double energy = 0.0;          ///< dissipated over the cycle
+  double stick_area = 0.0;      ///< smallest stick area of its steps (at its peak load)
+  double delta = 0.0;           ///< indentation at the period's end (phase 0)
+  double contact_radius = 0.0;  ///< sqrt(A / pi) of the contact area A there
+  double peak_pressure = 0.0;   ///< max p there
+  double max_slip = 0.0;        ///< largest slip path growth of a node in contact
+};
+
+/// Accumulates the CycleMeasures of a simulated wear cycle step by step.
+class CycleMeter {
+ public:
+  /// dissipation0: the cumulative dissipation (J) before the cycle; slip_path0: the slip
+  /// paths (m) before it.
+  CycleMeter(double dissipation0, Field slip_path0);
+  /// Adds a step at load phase `phase` (time in periods) with its record and the state after.
+  void add(const StepRecord& rec, const InterfaceState& state, double phase);
+  /// The cycle's measures: `dissipation` the cumulative dissipation (J) after its last step,
+  /// `state` the state after it.
+  CycleMeasures finish(double dissipation, const InterfaceState& state) const;
+
+ private:
+  double dissipation0_;
+  Field slip_path0_;
+  CycleMeasures m_;
+  double contact_ = 0.0;
+  bool at_phase0_ = false;
 };
 
 }  // namespace fretbem

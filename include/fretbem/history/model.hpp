@@ -11,7 +11,7 @@
 #include "fretbem/friction/law.hpp"
 #include "fretbem/history/load_path.hpp"
 #include "fretbem/scenario/scenario.hpp"
-#include "fretbem/wear/law.hpp"
+#include "fretbem/wear_law/law.hpp"
 
 namespace fretbem {
 

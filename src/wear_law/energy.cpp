@@ -1,4 +1,4 @@
-#include "fretbem/wear/law.hpp"
+#include "fretbem/wear_law/law.hpp"
 
 namespace fretbem {
 
