@@ -11,7 +11,9 @@
 #include <random>
 #include <sstream>
 
+#include "fretbem/contact/tangential_solver.hpp"
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/text_file.hpp"
 #include "fretbem/elastic/love.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
@@ -386,4 +388,36 @@ TEST(Coupling, NormalLoadingConvergesUnderRefinement) {
   }
   EXPECT_LT(std::abs(shear[2] - shear[1]), 0.7 * std::abs(shear[1] - shear[0]));
   EXPECT_LT(std::abs(approach[2] - approach[1]), 0.7 * std::abs(approach[1] - approach[0]));
+}
+
+// Steel on aluminium (beta = 0.12) with mu = 0.029 (beta/mu = 4): the pressure's tangential
+// displacement slides nearly the whole contact, and at zero tangential force a few central
+// nodes stick. A normal ramp (F_z to the a = L/4 load in 4 rows, n = 32) at solver.tolerance =
+// 1e-10 and coupling_tolerance = 1e-8 must converge with the projected method alone: its
+// iteration cycled between 3 and 23 stick nodes when a projection raised the QP objective,
+// leaving the steps to the fallbacks. The resultant of the shear stays zero (symmetry).
+TEST(Coupling, TightTolerancesConvergeWhereTheShearSlidesNearlyEverywhere) {
+  const Material m = steel_on_aluminium();
+  const double Fz = hertz_force(m.E_star(), 0.25);
+  const fs::path table = fs::temp_directory_path() / "coupling_normal_ramp.csv";
+  std::ostringstream csv;
+  csv << "time,Fz\n";
+  for (int i = 0; i <= 3; ++i) csv << i / 3.0 << "," << Fz * (i + 1) / 4.0 << "\n";
+  write_file_atomically(table, csv.str());
+  std::ostringstream mat;
+  mat << "E = " << m.body1.E << "\nnu = " << m.body1.nu << "\nE2 = " << m.body2->E
+      << "\nnu2 = " << m.body2->nu << "\nmu = 0.029";
+  const std::string text = sphere(32, mat.str(), "path = table\ntable = " + table.string(),
+                                  "coupling = coupled\ncoupling_tolerance = 1e-8");
+  auto model = build_model(parse_scenario(text, "test", fs::temp_directory_path()));
+  Stepper stepper(*model);
+  Recorder rec;
+  stepper.run({&rec});
+  ASSERT_EQ(rec.rows.size(), 4u);
+  EXPECT_EQ(dynamic_cast<const FallbackTangentialSolver&>(*model->tangential).fallbacks(), 0);
+  for (const auto& row : rec.rows) {
+    EXPECT_LE(row.coupling_residual, 1e-8) << "step " << row.step;
+    EXPECT_LE(row.tangential_residual, 1e-10) << "step " << row.step;
+    EXPECT_LT(std::hypot(row.Fx, row.Fy), 1e-8 * 0.029 * row.Fz) << "step " << row.step;
+  }
 }

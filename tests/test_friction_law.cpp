@@ -1,5 +1,5 @@
-// Friction laws against closed forms: a static/kinetic law's first slip is
-// Cattaneo's with mu_s; after gross sliding a law that has moved mu uniformly reproduces the
+// Friction laws against closed forms: a static/kinetic Cattaneo ramp converges to Cattaneo's
+// solution with mu_k; after gross sliding a law that has moved mu uniformly reproduces the
 // constant-mu solution with the new mu; a sliding contact carries mu_k F_z.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "fretbem/core/errors.hpp"
 #include "support/hertz.hpp"
@@ -48,20 +49,40 @@ fs::path shift_table(const std::vector<double>& ux) {
 
 }  // namespace
 
-// One increment to Q = 0.6 mu_s P from the virgin state: every node is stuck at its start, so
-// the bound is mu_s p and the answer is Cattaneo's with mu_s (c/a = (1 - Q/mu_s P)^(1/3)):
-// the rows equal the constant-mu run's, whatever mu_k.
-TEST(FrictionLaw, StaticKineticFirstSlipIsCattaneoWithMuStatic) {
-  const std::string load = "path = ramp\ncontrol = force\namplitude = 0.6\nsteps = 1";
-  const auto sk = run(sphere(64, 0.5, load, "law = static_kinetic\nmu_kinetic = 0.35\n"));
-  const auto c = run(sphere(64, 0.5, load, "law = constant\n"));
-  ASSERT_EQ(sk.size(), 2u);
-  EXPECT_EQ(sk[1].Fx, c[1].Fx);
-  EXPECT_EQ(sk[1].Ux, c[1].Ux);
-  EXPECT_EQ(sk[1].stick_area, c[1].stick_area);
-  // Cattaneo: stick radius (1 - 0.6)^(1/3) a, within a cell of a = 16 cells.
-  const double cells = std::sqrt(sk[1].stick_area / M_PI) * 64;
-  EXPECT_NEAR(cells, 16 * std::cbrt(0.4), 1.0);
+// Static/kinetic Cattaneo ramp to Q = 0.9 mu_k P (mu_s = 0.5, mu_k = 0.35). The continuum
+// limit is Cattaneo's with mu_k: the slip annulus carries mu_k p, and a stick zone r < c whose
+// traction held more than mu_k p at r = c would need the flat-punch term A / sqrt(c^2 - r^2),
+// unbounded at the front, past mu_s p; so A = 0 and c/a = (1 - Q/(mu_k P))^(1/3), the shift
+// U = mu_k (E*/G*)(a^2 - c^2)/R (docs/algorithms.md, "Static/kinetic friction"). A front node held
+// to mu_s adds a force ~ sqrt(h) (order 1/2: U 2.3 % low at n = 64). Checked: U against the
+// closed form at n = 32 and 64 (a = 8, 16 cells), converging at order >= 1; the stick radius
+// within a cell; one ramp step and eight give the same answer (no error of the step).
+TEST(FrictionLaw, StaticKineticRampConvergesToCattaneoWithMuKinetic) {
+  const double mu_k = 0.35, q = 0.9, a = 0.25;
+  Material m;
+  m.body1 = {1.0, 0.3};
+  const double c = a * std::cbrt(1 - q);
+  const double u_closed = mu_k * m.E_star() / m.G_star() * (a * a - c * c);
+  const std::string friction = "law = static_kinetic\nmu_kinetic = 0.35\n";
+  auto ramp = [&](int n, int steps) {
+    const std::string load =
+        "path = ramp\ncontrol = force\namplitude = " + format_number(q * mu_k / 0.5) +
+        "\nsteps = " + std::to_string(steps);
+    return run(sphere(n, 0.5, load, friction)).back();
+  };
+  std::vector<double> err;
+  for (int n : {32, 64}) {
+    const StepRecord r = ramp(n, 8);
+    err.push_back(std::abs(r.Ux / u_closed - 1));
+    const double cells = std::sqrt(r.stick_area / M_PI) * n;
+    EXPECT_NEAR(cells, c * n, 1.0) << "n = " << n;
+    EXPECT_NEAR(r.Fx, q * mu_k * kP, 1e-9 * kP);
+  }
+  EXPECT_LT(err[1], 1e-3);
+  EXPECT_GT(err[0] / err[1], 2.0) << err[0] << " " << err[1];  // order >= 1 in h
+  const StepRecord one = ramp(32, 1), eight = ramp(32, 8);
+  EXPECT_NEAR(one.Ux, eight.Ux, 1e-6 * u_closed);
+  EXPECT_EQ(one.stick_area, eight.stick_area);
 }
 
 // Displacement control far past sliding: once every node slides, a static/kinetic contact
@@ -73,8 +94,8 @@ TEST(FrictionLaw, UniformChangeReproducesConstantMu) {
   const fs::path table = shift_table({0, 3 * u, 6 * u, 4 * u, 2 * u, 0, 3 * u});
   // Gross sliding to 6 u*, past the contact radius: the friction laws, not the small-slip
   // geometry, are under test.
-  const std::string load = "path = table\ncontrol = displacement\nallow_large_shift = true\ntable = " +
-                           table.string();
+  const std::string load =
+      "path = table\ncontrol = displacement\nallow_large_shift = true\ntable = " + table.string();
   std::ostringstream evolving;
   evolving << "law = evolving\nmu_final = 0.6\nevolution = slip_path\nscale = " << 1e-3 * u << "\n";
   const auto ev = run(sphere(48, 0.3, load, evolving.str()));

@@ -1,6 +1,8 @@
 // The slip-node step of the tangential solvers: a local Newton step of every slip node with an
 // exact line search on the QP, carrying its own force correction under force control.
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "workspace.hpp"
@@ -141,8 +143,22 @@ bool take_step(Workspace& w, double theta, std::size_t nslip, VecField& tau, Vec
 // residual grew 10 % per iteration from 1e-3 to 0.5 with a fixed stick set, then the force
 // correction moved every node and the iteration cycled). With the correction inside the direction
 // every step decreases the QP objective.
+// The largest theta at which every stick node moved by the step (entries nslip.. of
+// w.slip.idx, the carried force correction) stays inside its disc: |tau + theta d| = g.
 template <int NC>
-bool slip_node_step_impl(Workspace& w, VecField& tau, VecField& u, bool carry_force) {
+double feasible_theta(const Workspace& w, std::size_t nslip, const VecField& tau) {
+  const Field& g = *w.inc.bound;
+  double tmax = std::numeric_limits<double>::infinity();
+  for (std::size_t i = nslip; i < w.slip.idx.size(); ++i) {
+    const Eigen::Index k = w.slip.idx[i];
+    tmax = std::min(tmax, step_to_bound<NC>(at<NC>(tau, k), at<NC>(w.slip.step, k), g(k)));
+  }
+  return tmax;
+}
+
+template <int NC>
+bool slip_node_step_impl(Workspace& w, VecField& tau, VecField& u, bool carry_force,
+                         bool feasible) {
   const NodeSets& sets = w.sets;
   VecField &d = w.slip.step, &dw_image = w.slip.image;
   const double sd = collect_slip_moves<NC>(w, tau, u);
@@ -159,7 +175,8 @@ bool slip_node_step_impl(Workspace& w, VecField& tau, VecField& u, bool carry_fo
   // Exact line search on the QP along d: theta = (s . d) / (d . C d), at most the full step.
   double dw = 0.0;
   for (const Eigen::Index k : w.slip.idx) dw += at<NC>(d, k).dot(at<NC>(dw_image, k));
-  const double theta = dw > 0.0 ? std::min(1.0, sd / dw) : 1.0;
+  double theta = dw > 0.0 ? std::min(1.0, sd / dw) : 1.0;
+  if (feasible && carry) theta = std::min(theta, feasible_theta<NC>(w, nslip, tau));
   for (const Eigen::Index k : sets.contact)
     for (int c = 0; c < NC; ++c) u[c](k) += theta * dw_image[c](k);
   const bool released = take_step<NC>(w, theta, nslip, tau, u);
@@ -169,9 +186,9 @@ bool slip_node_step_impl(Workspace& w, VecField& tau, VecField& u, bool carry_fo
 
 }  // namespace
 
-bool Workspace::slip_node_step(VecField& tau, VecField& u, bool carry_force) {
+bool Workspace::slip_node_step(VecField& tau, VecField& u, bool carry_force, bool feasible) {
   return by_components(op.components(), [&](auto nc) {
-    return slip_node_step_impl<decltype(nc)::value>(*this, tau, u, carry_force);
+    return slip_node_step_impl<decltype(nc)::value>(*this, tau, u, carry_force, feasible);
   });
 }
 

@@ -56,7 +56,9 @@ struct Workspace {
   /// control with `carry_force` the stick nodes take the step's force change within the same
   /// line search (the projected method); the partition method, which re-solves the stick set
   /// exactly at the force after every step, passes false.
-  bool slip_node_step(VecField& tau, VecField& u, bool carry_force = true);
+  /// With `feasible` the step is cut where the first stick node's share of the force
+  /// correction reaches its bound (no node leaves its disc, the force stays exact).
+  bool slip_node_step(VecField& tau, VecField& u, bool carry_force = true, bool feasible = false);
   /// Uniform shift of the stick nodes' traction that restores the imposed total force; u is
   /// then updated. No-op under displacement control.
   void restore_force(VecField& tau, VecField& u);

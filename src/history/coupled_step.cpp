@@ -106,15 +106,7 @@ TangentialResult Stepper::coupled_tangential(const LoadStep& ls, const VecField&
   inc.tau0 = &tau0;
   inc.u0 = &u0;
   set_target(ls, inc);
-  try {
-    return model_.tangential->solve(inc, state_.traction, state_.displacement);
-  } catch (const SolverError& e) {
-    FailedSolve f;
-    f.solve = "tangential";
-    f.control = inc.control == TangentialControl::force ? "force" : "displacement";
-    f.target = inc.target, f.bound = bound_, f.tau0 = tau0, f.u0 = u0;
-    fail(rec, e, std::move(f));
-  }
+  return solve_increment(inc, tau0, u0, rec);
 }
 
 }  // namespace fretbem

@@ -182,7 +182,7 @@ std::unique_ptr<Model> prepare_model(const Scenario& sc) {
   check_before_solve(sc, m->path, m->surface0);
   m->wear = make_wear_model(sc.wear);
   check_wear_path(sc, m->path);
-  m->friction = make_friction_law(sc.friction, sc.material.mu);
+  m->friction = make_friction_law(sc.friction, sc.material.mu, sc.grid.periodic);
   return m;
 }
 

@@ -192,17 +192,7 @@ bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
                                                                   : inc.target.isZero(0.0));
   last_target_ = inc.target;
   if (same_load && !bound_changed) return false;
-  TangentialResult r;
-  try {
-    r = model_.tangential->solve(inc, state_.traction, state_.displacement);
-  } catch (const SolverError& e) {
-    FailedSolve f;
-    f.solve = "tangential";
-    f.control = inc.control == TangentialControl::force ? "force" : "displacement";
-    f.target = inc.target, f.bound = bound_, f.tau0 = tau0, f.u0 = u0;
-    f.direction = op.direction();
-    fail(rec, e, std::move(f));
-  }
+  const TangentialResult r = solve_increment(inc, tau0, u0, rec);
   rec.tangential_iterations = r.iterations;
   rec.tangential_residual = r.residual;
   state_.shift += op.to_global(r.shift);

@@ -22,6 +22,14 @@ class FrictionLaw {
   virtual bool evolves() const = 0;
   /// The smallest mu the law can reach (force-controlled paths must stay below it).
   virtual double min_mu() const = 0;
+  /// Within a tangential increment: `slipped` is 1 where a node slipped in it so far, 0
+  /// elsewhere. A law whose mu changes the moment a node slips (static/kinetic) lowers g there
+  /// and returns true; the increment is then solved again with the lower bound. g only falls,
+  /// so the re-solves end.
+  virtual bool after_slip(const InterfaceState& /*state*/, const Field& /*slipped*/,
+                          Field& /*g*/) const {
+    return false;
+  }
 };
 
 /// Coulomb with constant mu (the default): g = mu p.
@@ -36,16 +44,26 @@ class ConstantFriction final : public FrictionLaw {
   double mu_;
 };
 
-/// Static/kinetic: mu_s at nodes that did not slip in the last step, mu_k at nodes that did.
+/// Static/kinetic: mu_k at nodes that slipped in the last step or slip in this one (from the
+/// moment they slip: after_slip) and at their four grid neighbours (the slip front), mu_s
+/// elsewhere. The front takes mu_k because the continuum traction is continuous across a
+/// moving slip front (a jump would make it singular, past any bound): the stick side of the
+/// front carries mu_k p, so a front node held to mu_s is a grid artefact that enlarges the stick
+/// zone by O(sqrt h) (docs/algorithms.md, "Static/kinetic friction").
 class StaticKineticFriction final : public FrictionLaw {
  public:
-  StaticKineticFriction(double mu_static, double mu_kinetic) : ms_(mu_static), mk_(mu_kinetic) {}
+  StaticKineticFriction(double mu_static, double mu_kinetic, bool periodic)
+      : ms_(mu_static), mk_(mu_kinetic), periodic_(periodic) {}
   void bound(const InterfaceState& state, Field& g) const override;
   bool evolves() const override { return true; }
   double min_mu() const override { return std::min(ms_, mk_); }
+  bool after_slip(const InterfaceState& state, const Field& slipped, Field& g) const override;
 
  private:
+  /// g for the nodes marked kinetic (1) and the pressure p.
+  Field kinetic_bound(const Field& kinetic, const Field& p) const;
   double ms_, mk_;
+  bool periodic_;  ///< neighbours wrap around the grid's edges
 };
 
 /// Running-in: mu = mu_0 + (mu_final - mu_0) (1 - exp(-X / scale)) per node, X its accumulated
@@ -63,7 +81,8 @@ class EvolvingFriction final : public FrictionLaw {
   FrictionSpec spec_;
 };
 
-/// The law of a scenario's friction keys, mu = material.mu.
-std::unique_ptr<FrictionLaw> make_friction_law(const FrictionSpec& spec, double mu);
+/// The law of a scenario's friction keys, mu = material.mu; `periodic`: the grid wraps.
+std::unique_ptr<FrictionLaw> make_friction_law(const FrictionSpec& spec, double mu,
+                                               bool periodic = false);
 
 }  // namespace fretbem

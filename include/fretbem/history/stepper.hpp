@@ -78,6 +78,9 @@ class Stepper {
   TangentialResult coupled_tangential(const LoadStep& ls, const VecField& tau0, const VecField& u0,
                                       StepRecord& rec);
   bool friction_step();
+  TangentialResult solve_increment(const TangentialIncrement& inc, const VecField& tau0,
+                                   const VecField& u0, StepRecord& rec);
+  bool bound_after_slip(const VecField& u0, const Eigen::VectorXd& shift);
   bool tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec);
   bool shortcut_applies(std::size_t k) const;
   void shortcut_step(const LoadStep& ls, StepRecord& rec);
