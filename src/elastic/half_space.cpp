@@ -97,6 +97,15 @@ void HalfSpace::build_distributed(const Material& m) {
 
 HalfSpace::~HalfSpace() = default;
 
+HalfSpace::MpiTimes HalfSpace::mpi_times() const {
+  if (!fft_->mpi) return {};
+  return {fft_->mpi->seconds_moving, fft_->mpi->seconds_transforming};
+}
+
+double HalfSpace::mpi_transpose_seconds(int repeats) {
+  return fft_->mpi ? fft_->mpi->transpose_seconds(repeats) : 0.0;
+}
+
 double HalfSpace::min_tolerance() const {
   return precision_ == FftPrecision::float32 ? kFloatFftMinTolerance : 0.0;
 }

@@ -152,8 +152,35 @@ void MpiEngine::inverse(fftw_complex* in, Field& f, double scale) {
   gather(f, scale);
 }
 
+// The r2c transform's transpose: n0 x nc complex values (2 doubles each), out of place.
+double MpiEngine::transpose_seconds(int repeats) {
+  const MPI_Comm c = *static_cast<const MPI_Comm*>(comm_.native());
+  fftw_plan t;
+  {
+    std::lock_guard lock(planner_mutex());
+    t = fftw_mpi_plan_many_transpose(n0, nc, 2, FFTW_MPI_DEFAULT_BLOCK, FFTW_MPI_DEFAULT_BLOCK,
+                                     &c1[0][0], &c2[0][0], c, FFTW_ESTIMATE);
+  }
+  std::vector<double> s;
+  for (int r = 0; r < repeats; ++r) {
+    MPI_Barrier(c);
+    const auto t0 = Clock::now();
+    fftw_execute(t);
+    s.push_back(comm_.max(since(t0)));
+  }
+  {
+    std::lock_guard lock(planner_mutex());
+    fftw_destroy_plan(t);
+  }
+  std::sort(s.begin(), s.end());
+  return s.empty() ? 0.0 : s[s.size() / 2];
+}
+
 #else
 
+double MpiEngine::transpose_seconds(int) {
+  return 0.0;
+}
 void MpiEngine::plan() {
   throw std::runtime_error(
       "this fretbem was built without MPI (-DFRETBEM_MPI=OFF): no distributed grid");

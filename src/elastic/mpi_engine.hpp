@@ -55,6 +55,9 @@ class MpiEngine {
   /// Seconds spent moving field rows between the field and transform slabs (MPI_Alltoallv),
   /// and in the transforms (FFTW-MPI, with their global transposes), since construction.
   double seconds_moving = 0.0, seconds_transforming = 0.0;
+  /// Median wall seconds of one global transpose of the n0 x nc spectrum (FFTW-MPI's
+  /// transpose plan, what the transforms do inside) over `repeats`. Collective.
+  double transpose_seconds(int repeats);
 
  private:
   void plan();

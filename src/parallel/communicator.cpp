@@ -116,4 +116,12 @@ bool launched_on_several_ranks() {
   return false;
 }
 
+int launched_rank() {
+#ifdef FRETBEM_MPI
+  for (const char* v : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"})
+    if (const char* s = std::getenv(v)) return std::atoi(s);
+#endif
+  return 0;
+}
+
 }  // namespace fretbem

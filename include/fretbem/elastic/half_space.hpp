@@ -127,6 +127,17 @@ class HalfSpace {
   /// E*/G*: ratio of the analogy tangential operator to the normal one.
   double tangential_ratio() const { return ratio_; }
 
+  /// Where a distributed grid's convolutions spend their time (s, this rank, since
+  /// construction): moving field rows between the field and transform slabs (MPI_Alltoallv),
+  /// and in the FFTW-MPI transforms, which include their global transposes. Zeros when serial.
+  struct MpiTimes {
+    double moving = 0.0, transforming = 0.0;
+  };
+  MpiTimes mpi_times() const;
+  /// Distributed grid: median wall seconds of one bare global transpose of the spectrum (of
+  /// the two a convolution does) over `repeats`; 0 when serial. Collective.
+  double mpi_transpose_seconds(int repeats);
+
   /// Number of forward+inverse convolution passes performed so far (machine-independent cost).
   std::int64_t convolutions() const { return convolutions_; }
 

@@ -47,5 +47,8 @@ const Communicator& world_communicator();
 /// True when this binary was built with MPI and started by an MPI launcher with more than
 /// one rank (mpirun -n K, K > 1; srun): the environment says so before MPI is initialised.
 bool launched_on_several_ranks();
+/// This process's rank as its launcher gave it (0 when not launched by MPI), known before MPI
+/// is initialised: which rank of a refused start prints the one error line.
+int launched_rank();
 
 }  // namespace fretbem
