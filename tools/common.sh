@@ -20,8 +20,9 @@ FRETBEM_REQUIRED_PACKAGES=(
   libxdmf-dev libzip-dev libpugixml-dev
 )
 # MPI is optional for the build (FRETBEM_MPI=AUTO finds it); tools/test.sh installs it so that
-# the suite also runs the MPI sweep tests (tests/test_sweep_mpi.cpp, ~10-20 s; docs/cluster.md).
-FRETBEM_MPI_PACKAGES=(libopenmpi-dev openmpi-bin)
+# the suite also runs the MPI sweep tests (tests/test_sweep_mpi.cpp, ~10-20 s; docs/cluster.md)
+# and the distributed-grid tests (tests/*_mpi.cpp with FFTW-MPI; docs/mpi-grid.md).
+FRETBEM_MPI_PACKAGES=(libopenmpi-dev openmpi-bin libfftw3-mpi-dev)
 # Only the plotting scripts (tools/plot_*.py), h5dump and the xarray test of result.h5
 # (tests/python/test_result_xarray.py) use these; clang-14 and its runtime build the sanitized
 # tests with float-cast-overflow and the libFuzzer targets (tools/test.sh --sanitize,

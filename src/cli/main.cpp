@@ -28,6 +28,7 @@
 #include "fretbem/io/failed_solve.hpp"
 #include "fretbem/io/resume_check.hpp"
 #include "fretbem/run/run.hpp"
+#include "fretbem/parallel/communicator.hpp"
 #include "fretbem/scenario/ignored_keys.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/study/ensemble.hpp"
@@ -184,6 +185,16 @@ int cmd_resume(const Args& a) {
 }
 
 int cmd_run(const Args& a) {
+  // A grid distributed over ranks exists up to the normal solve (docs/mpi-grid.md); `run` on
+  // K ranks would be K serial copies racing for one output folder. Refused before anything is
+  // read or written; rank 0 prints the line, the others only exit.
+  if (launched_on_several_ranks()) {
+    if (launched_rank() != 0) return 2;
+    throw InputError(
+        "fretbem run under mpirun -n K > 1: a run on a grid distributed over ranks is not "
+        "available yet (docs/mpi-grid.md); start `fretbem run` without mpirun, or spread "
+        "runs over ranks with `fretbem sweep`");
+  }
   install_stop_signal_handlers(SecondSignal::kills);  // stop at the next step, checkpointed
   if (!a.resume.empty()) return cmd_resume(a);
   Scenario sc = read_scenario(a);

@@ -20,14 +20,28 @@ constexpr double kBulkExit = 0.01;
 constexpr double kGrowth = 100.0;
 constexpr int kStagnation = 200;
 
+// Sum over every node of the grid (this rank's slab on a distributed one): every global sum
+// of the solve goes through the half-space's communicator.
+template <class Expr>
+double total(const HalfSpace& hs, const Expr& e) {
+  return hs.communicator().sum(e.sum());
+}
+
 // z = S K^-1 (S g), mean-free on S under force control so that directions keep the force (g is
 // mean-free on S there, so g . z is unchanged by the shift).
 const Field& preconditioned_direction(HalfSpace& hs, const Eigen::ArrayXXd& S, const Field& g,
                                       bool force_control, Field& z) {
   hs.normal_inverse(S * g, z);
   z *= S;
-  if (force_control) z -= S * ((S * z).sum() / std::max(1.0, S.sum()));
+  if (force_control) z -= S * (total(hs, S * z) / std::max(1.0, total(hs, S)));
   return z;
+}
+
+// p holds a warm start: a slab of this rank's shape with a positive value on some rank.
+bool is_warm(const HalfSpace& hs, const Field& p) {
+  const bool shaped = p.rows() == hs.grid().nx && p.cols() == hs.local_rows();
+  const Communicator& c = hs.communicator();
+  return c.min(shaped ? 1.0 : 0.0) > 0.0 && c.any(shaped && (p > 0).any());
 }
 }  // namespace
 
@@ -55,13 +69,13 @@ NormalResult NormalSolver::solve_indentation(const Field& z, double delta, Field
 // under indentation control a Winkler guess p = (delta - h0)+ / K(0,0).
 void NormalSolver::initial_guess(bool force_control, double target, Field& p) const {
   const Grid& g = hs_.grid();
-  const bool warm = p.rows() == g.nx && p.cols() == g.ny && (p > 0).any();
+  const bool warm = is_warm(hs_, p);
   if (force_control) {
     if (warm) {
       p = p.max(0.0);
-      p *= target / (p.sum() * g.cell_area());
+      p *= target / (total(hs_, p) * g.cell_area());
     } else {
-      p = Field::Constant(g.nx, g.ny, target / (g.size() * g.cell_area()));
+      p = Field::Constant(g.nx, hs_.local_rows(), target / (g.size() * g.cell_area()));
     }
   } else if (!warm) {
     p = ((target - h0_) / hs_.normal_self()).max(0.0);
@@ -108,7 +122,7 @@ class NormalSolver::Iteration {
     S_ = (p_ > 0.0).cast<double>();  // evaluated now: p changes in the step
     direction_ =
         forced_ || pre_ ? &preconditioned_direction(hs_, S_, s_.g_, force_control_, s_.z_) : &s_.g_;
-    return (S_ * s_.g_ * *direction_).sum();
+    return total(hs_, S_ * s_.g_ * *direction_);
   }
 
   cg::Step step(double beta) {
@@ -116,8 +130,8 @@ class NormalSolver::Iteration {
     t = S_ * (*direction_ + beta * t);
     hs_.normal(t, r);
     double rbar = 0.0;
-    if (force_control_) rbar = (S_ * r).sum() / std::max(1.0, S_.sum());
-    const double denom = (S_ * (r - rbar) * t).sum();
+    if (force_control_) rbar = total(hs_, S_ * r) / std::max(1.0, total(hs_, S_));
+    const double denom = total(hs_, S_ * (r - rbar) * t);
     if (!(denom > 0.0)) {
       // No descent on S. At round-off level that is the end; far from it, the warm start's
       // contact set was wrong in a way the iteration cannot leave (e.g. one node, where the
@@ -126,7 +140,7 @@ class NormalSolver::Iteration {
       cold_start();
       return {cg::Next::restart};
     }
-    const double tau = (S_ * s_.g_ * t).sum() / denom;
+    const double tau = total(hs_, S_ * s_.g_ * t) / denom;
     p_ -= tau * t;
     s_.u_ -= tau * r;
     return {cg::Next::proceed, project(tau)};
@@ -164,15 +178,18 @@ class NormalSolver::Iteration {
     // Nodes leaving contact in bulk change S, and with it the problem CG was conjugating on
     // (PK restart only on re-entry; measured: ~3700 annulus nodes left while the residual
     // climbed to 0.38 and stalled).
-    if (double(left) > kBulkExit * S_.sum()) restart = true;
+    const Communicator& comm = hs_.communicator();
+    if (comm.sum(double(left)) > kBulkExit * total(hs_, S_)) restart = true;
+    restart = comm.any(restart);
     // Few changed nodes: direct summation (~n^2 per node) beats a convolution (~4 n^2 log n)
-    // below HalfSpace::sparse_limit(), measured in tools/bench/convolution.
-    if (idx_.size() <= hs_.sparse_limit())
+    // below HalfSpace::sparse_limit(), measured in tools/bench/convolution. The count is the
+    // grid's: on a distributed grid every rank takes the same branch of the collective product.
+    if (comm.sum(double(idx_.size())) <= double(hs_.sparse_limit()))
       hs_.normal_add_sparse(idx_, val_, s_.u_);
     else
       hs_.normal(p_, s_.u_);
     if (force_control_) {
-      const double scale = target_ / (p_.sum() * hs_.grid().cell_area());
+      const double scale = target_ / (total(hs_, p_) * hs_.grid().cell_area());
       p_ *= scale;
       s_.u_ *= scale;
     }
@@ -195,19 +212,19 @@ class NormalSolver::Iteration {
 NormalResult NormalSolver::solve(const Field& z, bool force_control, double target, Field& p) {
   const Grid& grid = hs_.grid();
   const auto conv0 = hs_.convolutions();
-  h0_ = z.maxCoeff() - z;
+  h0_ = hs_.communicator().max(z.size() ? z.maxCoeff() : -HUGE_VAL) - z;
   NormalResult res;
   if (target <= 0.0) {  // no load: nothing touches (delta = 0 at first touch)
-    p = grid.zeros();
-    u_ = grid.zeros();
+    p = hs_.local_zeros();
+    u_ = hs_.local_zeros();
     res.converged = true;
     return res;
   }
   // Without a warm start the first guess is the cold one already.
-  const bool warm = p.rows() == grid.nx && p.cols() == grid.ny && (p > 0).any();
+  const bool warm = is_warm(hs_, p);
   initial_guess(force_control, target, p);
   hs_.normal(p, u_);
-  t_ = grid.zeros();
+  t_ = hs_.local_zeros();
   Iteration iteration(*this, force_control, target, p, warm);
   cg::Rules rules;
   rules.tolerance = opt_.tolerance;
@@ -216,7 +233,7 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
   res.iterations = out.iterations;
   res.residual = out.residual;
   res.converged = out.converged;
-  res.force = p.sum() * grid.cell_area();
+  res.force = total(hs_, p) * grid.cell_area();
   res.indentation = iteration.indentation();
   res.convolutions = int(hs_.convolutions() - conv0);
   if (!res.converged) {
@@ -232,22 +249,23 @@ NormalResult NormalSolver::solve(const Field& z, bool force_control, double targ
 double NormalSolver::gap_residual(bool force_control, double delta, const Field& p,
                                   double* delta_out) {
   const auto S = (p > 0.0);
-  const auto n = std::max<double>(1, S.count());
+  const double count = hs_.communicator().sum(double(S.count()));
+  const auto n = std::max<double>(1, count);
   Field& g = g_;
   g = u_ + h0_;
-  if (force_control) delta = (S.cast<double>() * g).sum() / n;
+  if (force_control) delta = total(hs_, S.cast<double>() * g) / n;
   g -= delta;
   *delta_out = delta;
-  const double on = (S.cast<double>() * g * g).sum();
-  const double off = (S.select(0.0, g.min(0.0))).square().sum();
+  const double on = total(hs_, S.cast<double>() * g * g);
+  const double off = total(hs_, S.select(0.0, g.min(0.0)).square());
   // Scale: the rms displacement on S, or the rms height variation over S when that is larger.
   // The second matters on periodic grids, where a uniform pressure displaces nothing (the
   // mean mode has zero compliance): the displacement alone would call full contact converged.
   const auto Sd = S.cast<double>();
-  const double h0bar = (Sd * h0_).sum() / n;
-  const double scale = std::max(std::sqrt((Sd * u_ * u_).sum() / n),
-                                std::sqrt((Sd * (h0_ - h0bar).square()).sum() / n));
-  if (!(scale > 0.0)) return S.count() == 0 ? 1.0 : 0.0;
+  const double h0bar = total(hs_, Sd * h0_) / n;
+  const double scale = std::max(std::sqrt(total(hs_, Sd * u_ * u_) / n),
+                                std::sqrt(total(hs_, Sd * (h0_ - h0bar).square()) / n));
+  if (!(scale > 0.0)) return count == 0 ? 1.0 : 0.0;
   return std::sqrt((on + off) / n) / scale;
 }
 

@@ -70,6 +70,7 @@ std::size_t HalfSpace::sparse_limit() const {
   // bench_convolution with the AVX2 summation (one core, pruned ESTIMATE plans): 76 nodes at
   // n = 128, 88 at 256, 159 at 512. The convolution's share of cache misses grows from 512 on,
   // so the break-even grows faster than log n there; 0.28 n follows it with 10 % to spare.
+  if (comm_->distributed()) return 0;
   const double side = std::sqrt(double(grid_.nx) * double(grid_.ny));
   return std::size_t(std::max({24.0, 0.28 * side, std::min(0.55 * side, 80.0)}));
 }

@@ -15,10 +15,19 @@ namespace fretbem {
 using fft_detail::make_spectrum;
 using fft_detail::spectrum_scale;
 
-HalfSpace::HalfSpace(const Grid& grid, const Material& material, Coupling coupling, FftOptions fft)
-    : grid_(grid), coupling_(coupling), precision_(fft.precision) {
+HalfSpace::HalfSpace(const Grid& grid, const Material& material, Coupling coupling, FftOptions fft,
+                     const Communicator& comm)
+    : grid_(grid),
+      comm_(&comm),
+      local_rows_(grid.ny),
+      coupling_(coupling),
+      precision_(fft.precision) {
   if (grid.nx < 1 || grid.ny < 1 || !(grid.h > 0))
     throw std::invalid_argument("HalfSpace: empty grid");
+  if (comm.distributed()) {
+    build_distributed(material);
+    return;
+  }
   const int f = grid.periodic ? 1 : 2;
   const int n0 = f * grid.ny, n1 = f * grid.nx;
   const bool single = fft.precision == FftPrecision::float32;
@@ -65,7 +74,37 @@ HalfSpace::HalfSpace(const Grid& grid, const Material& material, Coupling coupli
   for (auto* v : {&F.sz, &F.sxx, &F.syy, &F.sxy, &F.szx, &F.szy}) *v = {}, v->shrink_to_fit();
 }
 
+// The slab-decomposed operator (mpi_engine.hpp): double transforms, the analogy and Cerruti
+// kernels of free and periodic grids.
+void HalfSpace::build_distributed(const Material& m) {
+  if (precision_ != FftPrecision::float64)
+    throw InputError(
+        "solver.fft_precision = float is not available on a distributed grid (mpirun -n K > 1): "
+        "use double");
+  ratio_ = m.E_star() / m.G_star();
+  if (coupling_ == Coupling::coupled && m.cross_compliance() != 0.0)
+    throw InputError(
+        "solver.coupling = coupled with dissimilar bodies (normal-tangential cross terms) is not "
+        "available on a distributed grid (mpirun -n K > 1): use cerruti or one process");
+  const kernel_values::Constants c(grid_, m, coupling_ != Coupling::analogy, 0.0);
+  fft_ = std::make_unique<Fft>();
+  fft_->mpi = std::make_unique<fft_detail::MpiEngine>(*comm_, grid_, c);
+  const auto rows = fft_->mpi->field_rows();
+  first_row_ = rows.first, local_rows_ = rows.count;
+  self_ = fft_->mpi->self();
+  max_eig_ = fft_->mpi->max_eigenvalue();
+}
+
 HalfSpace::~HalfSpace() = default;
+
+HalfSpace::MpiTimes HalfSpace::mpi_times() const {
+  if (!fft_->mpi) return {};
+  return {fft_->mpi->seconds_moving, fft_->mpi->seconds_transforming};
+}
+
+double HalfSpace::mpi_transpose_seconds(int repeats) {
+  return fft_->mpi ? fft_->mpi->transpose_seconds(repeats) : 0.0;
+}
 
 double HalfSpace::min_tolerance() const {
   return precision_ == FftPrecision::float32 ? kFloatFftMinTolerance : 0.0;

@@ -8,6 +8,7 @@
 
 #include "fft_engine.hpp"
 #include "fretbem/elastic/half_space.hpp"
+#include "mpi_engine.hpp"
 
 namespace fretbem {
 
@@ -17,12 +18,15 @@ using fft_detail::Engine;
 // spectra); a float32 HalfSpace then swaps it for a float engine.
 struct HalfSpace::Fft {
   std::variant<std::unique_ptr<Engine<double>>, std::unique_ptr<Engine<float>>> engine;
+  // The engine of a distributed grid (double only); null when serial.
+  std::unique_ptr<fft_detail::MpiEngine> mpi;
   // Double spectra of the kernel build, dropped once the engine holds its own copies.
   std::vector<double> sz, sxx, syy, sxy, szx, szy;
 
   Engine<double>& builder() { return *std::get<0>(engine); }
   template <class F>
   void visit(F&& f) {
+    if (mpi) return f(*mpi);
     std::visit([&](auto& e) { f(*e); }, engine);
   }
 

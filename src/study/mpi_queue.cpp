@@ -5,12 +5,7 @@
 #include <deque>
 #include <thread>
 
-#ifdef FRETBEM_MPI
-// The C API only: Open MPI's and MPICH's deprecated C++ bindings need their own library.
-#define OMPI_SKIP_MPICXX 1
-#define MPICH_SKIP_MPICXX 1
-#include <mpi.h>
-#endif
+#include "../parallel/mpi.hpp"
 
 namespace fretbem {
 

@@ -10,6 +10,7 @@
 
 #include "fretbem/elastic/grid.hpp"
 #include "fretbem/elastic/material.hpp"
+#include "fretbem/parallel/communicator.hpp"
 
 namespace fretbem {
 
@@ -39,14 +40,27 @@ struct FftOptions {
   FftPrecision precision = FftPrecision::float64;
 };
 
+/// Distributed over the ranks of a communicator (size > 1), a HalfSpace works on slabs: each
+/// rank holds the field rows j in [first_row(), first_row() + local_rows()) as an
+/// (nx, local_rows()) Field, and every operator below takes and returns such slabs
+/// (docs/mpi-grid.md). Serial, the slab is the whole grid.
 class HalfSpace {
  public:
-  HalfSpace(const Grid& grid, const Material& material, Coupling coupling, FftOptions fft = {});
+  /// Throws InputError when `comm` is distributed and the options ask for what is not
+  /// distributed: float32 transforms, normal-tangential cross terms.
+  HalfSpace(const Grid& grid, const Material& material, Coupling coupling, FftOptions fft = {},
+            const Communicator& comm = serial_communicator());
   ~HalfSpace();
   HalfSpace(const HalfSpace&) = delete;
   HalfSpace& operator=(const HalfSpace&) = delete;
 
   const Grid& grid() const { return grid_; }
+  const Communicator& communicator() const { return *comm_; }
+  /// First grid row (index j) of this rank's slab, and its number of rows.
+  int first_row() const { return first_row_; }
+  int local_rows() const { return local_rows_; }
+  /// A zero slab: (nx, local_rows()).
+  Field local_zeros() const { return Field::Zero(grid_.nx, local_rows_); }
   Coupling coupling() const { return coupling_; }
   FftPrecision precision() const { return precision_; }
 
@@ -101,7 +115,8 @@ class HalfSpace {
 
   /// Largest number of changed nodes for which the *_add_sparse updates are cheaper than one
   /// convolution: below bench_convolution's measured break-even (76, 88 and 159 nodes at
-  /// n = 128, 256 and 512 with the AVX2 summation); 70, 80 and 143 there.
+  /// n = 128, 256 and 512 with the AVX2 summation); 70, 80 and 143 there. 0 on a distributed
+  /// grid: a changed node moves every rank's displacements, a convolution's work.
   std::size_t sparse_limit() const;
 
   /// Normal self-compliance K_z(0,0) (m/Pa): the displacement of a cell under its own unit
@@ -111,6 +126,17 @@ class HalfSpace {
   double normal_max_eigenvalue() const { return max_eig_; }
   /// E*/G*: ratio of the analogy tangential operator to the normal one.
   double tangential_ratio() const { return ratio_; }
+
+  /// Where a distributed grid's convolutions spend their time (s, this rank, since
+  /// construction): moving field rows between the field and transform slabs (MPI_Alltoallv),
+  /// and in the FFTW-MPI transforms, which include their global transposes. Zeros when serial.
+  struct MpiTimes {
+    double moving = 0.0, transforming = 0.0;
+  };
+  MpiTimes mpi_times() const;
+  /// Distributed grid: median wall seconds of one bare global transpose of the spectrum (of
+  /// the two a convolution does) over `repeats`; 0 when serial. Collective.
+  double mpi_transpose_seconds(int repeats);
 
   /// Number of forward+inverse convolution passes performed so far (machine-independent cost).
   std::int64_t convolutions() const { return convolutions_; }
@@ -125,7 +151,11 @@ class HalfSpace {
                      std::span<const double> val, std::span<const std::int64_t> targets,
                      Field& u) const;
 
+  void build_distributed(const Material& m);
+
   Grid grid_;
+  const Communicator* comm_;
+  int first_row_ = 0, local_rows_ = 0;
   Coupling coupling_;
   FftPrecision precision_;
   std::unique_ptr<Fft> fft_;
