@@ -174,6 +174,9 @@ class WearCycles {
 
  private:
   void fresh(const Field& worn);
+  /// The normal loading alone of surface z0 - worn from a traction-free state, silent and
+  /// leaving the run's cumulative dissipation as it was; the stepper holds its state.
+  const InterfaceState& probe_loading(const Field& worn);
   int settle();
   Field loop_wear();
   StepRecord step(const LoadStep& ls, double time, bool emit);
