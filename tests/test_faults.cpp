@@ -95,7 +95,7 @@ void expect_same_csv(const fs::path& a, const fs::path& b, const std::string& na
   for (std::size_t i = 1; i < ra.size(); ++i) {
     ASSERT_EQ(ra[i].size(), rb[i].size()) << name << " row " << i;
     for (std::size_t c = 0; c < cols.size(); ++c) {
-      if (cols[c] == "convolutions") continue;
+      if (cols[c] == "convolutions" || ra[i][c] == rb[i][c]) continue;  // nan kx: not solved
       if (cols[c].starts_with("kx")) {
         EXPECT_NEAR(std::stod(ra[i][c]), std::stod(rb[i][c]), 1e-7 * std::abs(std::stod(ra[i][c])));
         continue;
@@ -551,6 +551,28 @@ TEST_F(Faults, ResumeKeepsTheBoundOfTheLastStep) {
     expect_same_rows(whole, part);
     expect_same_csv(whole, part, "cycles.csv");
   }
+}
+
+// A coupled (Dundurs beta != 0) erk wear run: the normal loading that measures the unworn
+// indentation (the wear tolerances' scale) slips and does work, and a resumed run probes it
+// again; a resumed run's dissipation equals the uninterrupted run's (sweep seed 1 case 274:
+// 2.1e-4 relative above it from the first resumed row).
+TEST_F(Faults, ResumedCoupledOdeWearRunKeepsItsDissipation) {
+  const fs::path scenario = dir_ / "coupled_wear.ini";
+  std::ofstream(scenario)
+      << "[material]\nE = 5e9\nnu = 0.3\nmu = 0.5\n[grid]\nn = 16\nlength = 2.8e-4\n"
+         "[surface]\ntype = sphere\nradius = 0.01\n[load]\npath = sine\n"
+         "control = displacement\nnormal_force = 0.25\ndisplacement_amplitude = 3e-7\n"
+         "direction = -45\n[solver]\nstiffness = false\ncoupling = coupled\n[wear]\n"
+         "law = archard\nintegrator = erk\ncycles = 30\ncoefficient = 5e-13\nrtol = 0.01\n";
+  const fs::path whole = dir_ / "whole", part = dir_ / "part";
+  const std::string args = "run " + scenario.string() + " --quiet --out ";
+  ASSERT_EQ(run(args + whole.string(), dir_).code, 0);
+  ASSERT_EQ(run(args + part.string() + " --stop-after 2", dir_).code, 0);
+  const Result r = run("run --resume " + part.string() + " --quiet", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  expect_same_rows(whole, part);
+  expect_same_csv(whole, part, "cycles.csv");
 }
 
 // Outputs that do not belong to the checkpoint are refused, not patched.

@@ -59,8 +59,10 @@ StepRecord Stepper::advance(std::size_t k) {
   const bool predict = model_.cycle_predictor && k > 0;
   const Grid& g = model_.half_space->grid();
   guess_ = predict ? predictor_.find(steps.at(k - 1), steps.at(k), g.nx, g.ny) : nullptr;
+  shortcut_ = k > 0 && shortcut_applies(k);
   const StepRecord rec = advance(steps.at(k), int(k));
   guess_ = nullptr;
+  shortcut_ = false;
   // Only transitions the path repeats are remembered: nothing on a table that never repeats,
   // nothing in the last cycle of a sine.
   if (predict && repeated_later_.at(k))
@@ -84,7 +86,7 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
     bool bound_changed = normal_step(ls, rec);
     bound_moved_ = bound_changed;
     if (!bound_changed && k > 0 && model_.friction->evolves()) bound_changed = friction_step();
-    if (k > 0 && shortcut_applies(k))
+    if (shortcut_)
       shortcut_step(ls, rec), incremented = true;
     else if (k > 0)
       incremented = tangential_step(ls, bound_changed, rec);

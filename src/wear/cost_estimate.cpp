@@ -98,6 +98,7 @@ WearCostEstimate estimate_wear_cost(const Scenario& sc) {
   e.seconds_per_cycle = seconds / per_evaluation;
   e.cap = explicit_step_cap(*model, c0.max_slip);
   const WearSpec& w = sc.wear;
+  require_ode_cap(w, e.cap);
   const double N = w.cycles;
   e.implicit = runs_implicit(w.integrator, N, e.cap, cycles.simulated());
   const SimulatedCycles range =

@@ -172,6 +172,7 @@ void OdeRun::first_cycle() {
   c0.worn_hash = fingerprint(worn());
   if (log_) log_->snapshot(0.0, Field::Zero(g_.nx, g_.ny), cyc_.pressure(), true);
   cap_ = explicit_step_cap(model_, c0.max_slip);
+  require_ode_cap(model_.scenario.wear, cap_);
   keep(rep_, std::move(c0), log_);
   if (const std::string w = explicit_cap_warning(model_.scenario.wear, cap_); log_ && !w.empty())
     log_->warn(w);

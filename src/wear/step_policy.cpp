@@ -2,6 +2,7 @@
 // explicit run past it, arkode's choice of method, and the snapshot sequence in N.
 #include <cmath>
 
+#include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/wear/integrator.hpp"
 #include "wear_rows.hpp"
@@ -37,6 +38,22 @@ bool runs_implicit(WearIntegrator kind, double N, double cap, double evaluation_
   if (kind == WearIntegrator::dirk) return true;
   if (kind != WearIntegrator::arkode) return false;
   return N > kImplicitPastCaps * cap || cap < wear_detail::kStepWorth * 2.0 * evaluation_cycles;
+}
+
+bool simulates_every_cycle(const WearSpec& wear) {
+  const double N = wear.cycles;
+  return wear.integrator == WearIntegrator::cycle || (N <= kShortRun && N == std::floor(N));
+}
+
+void require_ode_cap(const WearSpec& wear, double cap) {
+  if (simulates_every_cycle(wear) || !(cap < kMinOdeCap)) return;
+  throw InputError(
+      "wear.integrator: one cycle wears this surface past the stability of a one-cycle step "
+      "(explicit stability cap " +
+      format_printf("%.3g", cap) + " cycles < " + format_printf("%g", kMinOdeCap) +
+      "; wear.coefficient = " + format_number(wear.coefficient) +
+      "), so the cycles' history follows no ODE in N; use wear.integrator = cycle, or a "
+      "smaller wear.coefficient");
 }
 
 std::vector<double> snapshot_cycles(double N_end) {

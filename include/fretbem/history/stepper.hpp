@@ -108,6 +108,12 @@ class Stepper {
   CyclePredictor predictor_;          ///< Model::cycle_predictor
   std::vector<char> repeated_later_;  ///< CyclePredictor::repeated_later of the path
   const VecField* guess_ = nullptr;   ///< the predictor of the step being advanced
+  /// The step being advanced is path step k on the path's first monotone segment, where the
+  /// Ciavarella–Jäger shortcut holds. Only a path index says so: a step given explicitly (a
+  /// wear cycle's, whose index is a row) is solved incrementally. Judged by its row index, every
+  /// step of a wear cycle took the shortcut, reversals included, and the carried cycles of
+  /// sweep seed 1 case 282 dissipated 25 % less than their closed loop.
+  bool shortcut_ = false;
   /// Coupling::coupled: tangential displacement (m) of the pressure at the end of the last
   /// step (the start of this one); empty until first needed (and after a restore).
   VecField pressure_slip_;

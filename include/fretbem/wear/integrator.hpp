@@ -152,6 +152,9 @@ class WearCycles {
 
  private:
   void fresh(const Field& worn);
+  /// The normal loading alone of surface z0 - worn from a traction-free state, silent and
+  /// leaving the run's cumulative dissipation as it was; the stepper holds its state.
+  const InterfaceState& probe_loading(const Field& worn);
   int settle();
   Field loop_wear();
   StepRecord step(const LoadStep& ls, double time, bool emit);
@@ -200,6 +203,32 @@ double explicit_step_cap(const Model& model, double max_slip);
 /// prefix, no newline) naming the cap, the run's length in caps, and dirk / arkode; empty
 /// otherwise. Printed by `fretbem check` and at the start of the run.
 std::string explicit_cap_warning(const WearSpec& wear, double cap);
+
+/// Runs this short are simulated cycle by cycle whatever wear.integrator says: an ODE
+/// integrator cannot beat N + 1 simulated cycles there (its first steady cycle, one step per
+/// snapshot 1, 2, 5, 10, 20 of at least two evaluations each, and the final observation):
+/// measured at n = 32, Q = 0.6 mu P, k = 1e-11 (tools/bench/wear_sweep.py), arkode took 17.4
+/// simulated cycles for N = 10; see docs/wear.md for the crossover.
+inline constexpr double kShortRun = 20.0;
+
+/// Whether every cycle is simulated whatever the ODE integrators could do: wear.integrator =
+/// cycle, or a whole number of wear.cycles up to kShortRun.
+bool simulates_every_cycle(const WearSpec& wear);
+
+/// Explicit stability cap (cycles, explicit_step_cap) below which the ODE integrators refuse
+/// a run. Cycle-by-cycle wear is a forward step of one cycle, stable on the stiffest mode only
+/// while 1 cycle x k_eq s_max K_max <= 2, i.e. cap >= 0.5; below that the cycles' history
+/// overshoots node by node (the contact narrows and hops between spots) and follows no
+/// solution of the ODE in N. Measured on a gross-slip file sphere (n = 24, 200 cycles, k
+/// varied; docs/wear.md, "Integrators"): erk within 1.3e-4 of `cycle` in max worn depth at
+/// cap 0.38, -5.4 % at 0.34, -12 % at 0.021; and there `cycle` itself moves by 14-27 % when
+/// its first cycle is the steady one instead of the virgin one (n = 16 sphere, cap 0.13 and
+/// 0.03): no integrator in N can stand for that history.
+inline constexpr double kMinOdeCap = 0.5;
+
+/// Throws InputError naming wear.integrator when an ODE integrator (erk, dirk, arkode) meets
+/// an unworn surface whose explicit stability cap `cap` is below kMinOdeCap.
+void require_ode_cap(const WearSpec& wear, double cap);
 
 /// Geometric output sequence 0, 1, 2, 5, 10, 20, 50, ... up to and including N_end.
 std::vector<double> snapshot_cycles(double N_end);
