@@ -12,6 +12,7 @@
 #include "fretbem/contact/step_work.hpp"
 #include "fretbem/history/cycle_predictor.hpp"
 #include "fretbem/history/failed_solve.hpp"
+#include "fretbem/history/masing_image.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/observables.hpp"
 
@@ -39,6 +40,8 @@ struct StepperMemory {
   /// Coupling::coupled "pressure_slip0"/"pressure_slip1" (m). Empty: restore recomputes the
   /// bound from the state (a fresh start, or a checkpoint written without them).
   std::map<std::string, Field> fields;
+  /// MasingImage::flatten of the stepper's Masing image (empty: none recorded).
+  std::vector<double> masing;
 };
 
 class Stepper {
@@ -85,6 +88,7 @@ class Stepper {
   bool friction_step();
   bool tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec);
   bool shortcut_applies(std::size_t k) const;
+  bool masing_applies() const;
   void shortcut_step(const LoadStep& ls, StepRecord& rec);
   [[noreturn]] void fail(const StepRecord& rec, const SolverError& e, FailedSolve f) const;
   void accumulate_slip(const VecField& u0, const VecField* tau0, const Eigen::VectorXd& dU,
@@ -109,6 +113,8 @@ class Stepper {
   double wear_cycle_ = -1.0;          // < 0: not a wear run
   CyclePredictor predictor_;          ///< Model::cycle_predictor
   std::vector<char> repeated_later_;  ///< CyclePredictor::repeated_later of the path
+  MasingImage::Plan masing_plan_;     ///< empty unless masing_applies()
+  MasingImage masing_;                ///< the Masing image's virgin table and branch origin
   const VecField* guess_ = nullptr;   ///< the predictor of the step being advanced
   /// Coupling::coupled: tangential displacement (m) of the pressure at the end of the last
   /// step (the start of this one); empty until first needed (and after a restore).
