@@ -6,6 +6,7 @@
 #include <string>
 
 #include "fretbem/history/cycle_predictor.hpp"
+#include "fretbem/history/model.hpp"
 
 namespace fretbem {
 
@@ -55,6 +56,13 @@ MasingImage::Plan MasingImage::plan(const LoadPath& path, bool predictor) {
   const std::vector<long> src = predictor ? CyclePredictor::sources(s) : std::vector<long>(n, -1);
   for (std::size_t k = kv + 1; k < n; ++k) p.image[k] = src[k] <= long(kv) ? 1 : 0;
   return p;
+}
+
+MasingImage::Plan MasingImage::plan(const Model& m) {
+  const bool exact = m.scenario.solver.predictor != PredictorMode::none && !m.friction->evolves() &&
+                     !m.wear && m.tangential_operator->components() == 1 &&
+                     m.scenario.solver.coupling == Coupling::analogy;
+  return exact ? plan(m.path, m.cycle_predictor) : Plan{};
 }
 
 void MasingImage::record_virgin(double level, const Field& tau, const Field& bound) {

@@ -13,17 +13,7 @@ namespace fretbem {
 Stepper::Stepper(Model& model)
     : model_(model), state_(InterfaceState::zeros(*model.tangential_operator)) {
   if (model_.cycle_predictor) repeated_later_ = CyclePredictor::repeated_later(model_.path.steps);
-  if (masing_applies()) masing_plan_ = MasingImage::plan(model_.path, model_.cycle_predictor);
-}
-
-// The Masing image needs what makes it exact: one traction component under the analogy, a
-// friction bound that does not evolve, a surface that does not wear; solver.predictor = none
-// turns every warm start off.
-bool Stepper::masing_applies() const {
-  const Model& m = model_;
-  return m.scenario.solver.predictor != PredictorMode::none && !m.friction->evolves() && !m.wear &&
-         m.tangential_operator->components() == 1 &&
-         m.scenario.solver.coupling == Coupling::analogy;
+  masing_plan_ = MasingImage::plan(model_);
 }
 
 std::size_t Stepper::run(const std::vector<Observer*>& observers, std::size_t max_steps,

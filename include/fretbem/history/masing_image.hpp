@@ -19,6 +19,8 @@
 
 namespace fretbem {
 
+struct Model;
+
 class MasingImage {
  public:
   /// Memory bound of the virgin table: at most this many bytes per grid cell (a 64-step Hertz
@@ -40,6 +42,10 @@ class MasingImage {
     std::vector<double> level;
   };
   static Plan plan(const LoadPath& path, bool predictor);
+  /// The plan of a model's run: empty unless the image is exact there (one traction component
+  /// under the analogy, a friction bound that does not evolve, no wear) and solver.predictor is
+  /// not `none` (which turns every warm start off).
+  static Plan plan(const Model& model);
 
   /// A virgin step solved at load `level` with traction `tau` (one component, Pa).
   void record_virgin(double level, const Field& tau, const Field& bound);

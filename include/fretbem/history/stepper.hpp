@@ -88,7 +88,6 @@ class Stepper {
   bool friction_step();
   bool tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec);
   bool shortcut_applies(std::size_t k) const;
-  bool masing_applies() const;
   void shortcut_step(const LoadStep& ls, StepRecord& rec);
   [[noreturn]] void fail(const StepRecord& rec, const SolverError& e, FailedSolve f) const;
   void accumulate_slip(const VecField& u0, const VecField* tau0, const Eigen::VectorXd& dU,
@@ -113,7 +112,7 @@ class Stepper {
   double wear_cycle_ = -1.0;          // < 0: not a wear run
   CyclePredictor predictor_;          ///< Model::cycle_predictor
   std::vector<char> repeated_later_;  ///< CyclePredictor::repeated_later of the path
-  MasingImage::Plan masing_plan_;     ///< empty unless masing_applies()
+  MasingImage::Plan masing_plan_;     ///< MasingImage::plan of the model
   MasingImage masing_;                ///< the Masing image's virgin table and branch origin
   const VecField* guess_ = nullptr;   ///< the predictor of the step being advanced
   /// Coupling::coupled: tangential displacement (m) of the pressure at the end of the last
