@@ -5,6 +5,7 @@
 
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/progress.hpp"
+#include "fretbem/history/masing_image.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
 
@@ -34,9 +35,19 @@ std::vector<double> step_cost_shares(const Model& model) {
   const std::vector<char> seen = model.cycle_predictor
                                      ? CyclePredictor::repeated_earlier(model.path.steps)
                                      : std::vector<char>(steps, 0);
+  // A step that starts from the Masing image: exact once a branch meets the half changes of the
+  // branch before it (after the second turning point: a predicted step); interpolated on the
+  // first reversal, where it costs about half a calibration step (mindlin_cycle at n = 32:
+  // 11.7 and 9.9 against 24 and 19 convolutions at amplitudes 0.6 and 0.3; 19.4 against 25 at
+  // n = 256).
+  const MasingImage::Plan masing = MasingImage::plan(model);
   std::vector<double> share(steps);
-  for (std::size_t i = 0; i < steps; ++i)
-    share[i] = seen[i] ? kPredictedStepShare : i > settled ? kSettledStepShare : 1.0;
+  for (std::size_t i = 0; i < steps; ++i) {
+    const bool imaged = !masing.image.empty() && masing.image[i];
+    share[i] = seen[i] || (imaged && i > settled) ? kPredictedStepShare
+               : imaged || i > settled            ? kSettledStepShare
+                                                  : 1.0;
+  }
   return share;
 }
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <set>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -38,7 +38,8 @@ bool same_transition(const LoadStep& p0, const LoadStep& c0, const LoadStep& p1,
 
 namespace {
 
-std::vector<char> repeated(const std::vector<LoadStep>& steps, bool later) {
+// Step k's transition's latest earlier occurrence, or -1.
+std::vector<long> transition_sources(const std::vector<LoadStep>& steps) {
   double tscale = 1e-300, nscale = 1e-300;
   for (const LoadStep& s : steps) {
     tscale = std::max(tscale, s.target.cwiseAbs().maxCoeff());
@@ -59,25 +60,33 @@ std::vector<char> repeated(const std::vector<LoadStep>& steps, bool later) {
                q(c.normal.value, nscale),
                0};
   };
-  std::vector<char> out(steps.size(), 0);
-  std::set<Key> seen;
-  for (std::size_t i = 1; i < steps.size(); ++i) {
-    const std::size_t k = later ? steps.size() - i : i;
-    const Key kk = key(steps[k - 1], steps[k]);
-    out[k] = seen.count(kk) ? 1 : 0;
-    seen.insert(kk);
+  std::vector<long> out(steps.size(), -1);
+  std::map<Key, long> last;
+  for (std::size_t k = 1; k < steps.size(); ++k) {
+    const auto [it, fresh] = last.try_emplace(key(steps[k - 1], steps[k]), long(k));
+    if (!fresh) out[k] = it->second, it->second = long(k);
   }
   return out;
 }
 
 }  // namespace
 
+std::vector<long> CyclePredictor::sources(const std::vector<LoadStep>& steps) {
+  return transition_sources(steps);
+}
+
 std::vector<char> CyclePredictor::repeated_later(const std::vector<LoadStep>& steps) {
-  return repeated(steps, true);
+  std::vector<char> out(steps.size(), 0);
+  for (const long s : transition_sources(steps))
+    if (s >= 0) out[std::size_t(s)] = 1;
+  return out;
 }
 
 std::vector<char> CyclePredictor::repeated_earlier(const std::vector<LoadStep>& steps) {
-  return repeated(steps, false);
+  std::vector<char> out(steps.size(), 0);
+  const std::vector<long> src = transition_sources(steps);
+  for (std::size_t k = 0; k < src.size(); ++k) out[k] = src[k] >= 0 ? 1 : 0;
+  return out;
 }
 
 const VecField* CyclePredictor::find(const LoadStep& prev, const LoadStep& cur, Eigen::Index nx,

@@ -13,6 +13,7 @@ namespace fretbem {
 Stepper::Stepper(Model& model)
     : model_(model), state_(InterfaceState::zeros(*model.tangential_operator)) {
   if (model_.cycle_predictor) repeated_later_ = CyclePredictor::repeated_later(model_.path.steps);
+  masing_plan_ = MasingImage::plan(model_);
 }
 
 std::size_t Stepper::run(const std::vector<Observer*>& observers, std::size_t max_steps,
@@ -28,8 +29,9 @@ std::size_t Stepper::run(const std::vector<Observer*>& observers, std::size_t ma
 }
 
 StepperMemory Stepper::memory() const {
-  StepperMemory m{next_, last_normal_, last_target_, dissipation_, wear_volume_, {}};
+  StepperMemory m{next_, last_normal_, last_target_, dissipation_, wear_volume_, {}, {}};
   if (bound_.size() > 0) m.fields["bound"] = bound_;
+  m.masing = masing_.flatten();
   for (std::size_t c = 0; c < pressure_slip_.size(); ++c)
     m.fields["pressure_slip" + std::to_string(c)] = pressure_slip_[c];
   return m;
@@ -39,6 +41,8 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m,
                       CyclePredictor predictor) {
   state_ = state;
   predictor_ = std::move(predictor);
+  const Grid& g = model_.half_space->grid();
+  masing_ = MasingImage::unflatten(m.masing, g.nx, g.ny);
   const auto bound = m.fields.find("bound");
   if (bound != m.fields.end())
     bound_ = bound->second;
@@ -60,9 +64,17 @@ StepRecord Stepper::advance(std::size_t k) {
   const Grid& g = model_.half_space->grid();
   guess_ = predict ? predictor_.find(steps.at(k - 1), steps.at(k), g.nx, g.ny) : nullptr;
   shortcut_ = k > 0 && shortcut_applies(k);
+  const MasingImage::Plan& mp = masing_plan_;
+  if (!mp.image.empty() && mp.image[k])
+    if (const VecField* image = masing_.image(mp.level[k])) guess_ = image;
   const StepRecord rec = advance(steps.at(k), int(k));
   guess_ = nullptr;
   shortcut_ = false;
+  if (!mp.virgin.empty() && mp.virgin[k])
+    masing_.record_virgin(mp.level[k], state_.traction[0], bound_);
+  if (!mp.image.empty() && mp.image[k])
+    masing_.record_branch(mp.level[k], state_.traction[0], bound_);
+  if (!mp.turning.empty() && mp.turning[k]) masing_.record_turning(mp.level[k], state_.traction[0]);
   // Only transitions the path repeats are remembered: nothing on a table that never repeats,
   // nothing in the last cycle of a sine.
   if (predict && repeated_later_.at(k))

@@ -168,6 +168,7 @@ void write_memory(hid_t f, const StepperMemory& m) {
   t.insert(t.begin(), double(t.size()));
   write_vector(f, "last_target", t);
   write_memory_fields(f, m.fields);
+  if (!m.masing.empty()) write_vector(f, "masing", m.masing);
 }
 
 // The wear part (wear runs only): scalars in one vector, the worn depth as a field.
@@ -343,6 +344,7 @@ StepperMemory read_memory(const Reader& r) {
   const long nt = count(r, "last_target[0] (its length)", t[0], 0, double(t.size() - 1));
   if (std::size_t(nt) + 1 != t.size()) r.fail("last_target length does not match its count");
   m.last_target = Eigen::Map<const Eigen::VectorXd>(t.data() + 1, Eigen::Index(nt));
+  if (r.exists("masing")) m.masing = r.array("masing", nullptr);
   if (!r.exists(kMemoryFields)) return m;
   std::istringstream names(r.text(kMemoryFields));
   for (std::string name; std::getline(names, name);)

@@ -150,6 +150,7 @@ void validate_checkpoint(const Checkpoint& cp, const Model& m, const fs::path& f
   if (cp.wear) check_wear(file, *cp.wear, m);
   try {
     (void)CyclePredictor::unflatten(cp.predictor, std::size_t(g.nx * g.ny), nc);
+    (void)MasingImage::unflatten(mem.masing, g.nx, g.ny);
   } catch (const std::runtime_error& e) {
     refuse(file, e.what());
   }

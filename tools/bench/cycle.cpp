@@ -1,10 +1,11 @@
 // Time per load cycle of the Mindlin–Deresiewicz fretting loop: Hertz
 // sphere, contact radius L/4, force control +-0.6 mu F_z, 64 steps per cycle, at n = 128, 256,
 // 512, with solver.stiffness = every, turning and none, and solver.predictor = none and cycle.
-// Reports the median wall and process CPU time of the second cycle (with the predictor also of
-// the third: the second is the first it predicts, from a first cycle whose opening quarter was
-// the virgin loading), the convolutions it used, and the CPU time in units of one
-// bare convolution of the same padded size measured in the same run (machine-independent),
+// Reports the median wall and process CPU time of the first cycle (virgin loading and two
+// reversals: nothing to predict from, the Masing image warm-starts the reloading branch), the
+// second (with the predictor also of the third: the second is the first it predicts, the
+// Masing image starting its opening quarter), the convolutions it used, and the CPU time in units
+// of one bare convolution of the same padded size measured in the same run (machine-independent),
 // and per convolution the solvers performed (the overhead of their element-wise passes).
 // FFT plans as `fretbem run` makes them (MEASURE with wisdom), one thread.
 //
@@ -42,23 +43,23 @@ struct CycleCost {
   long convolutions;
 };
 
-// Runs the first cycle (transient), then times each later one; the unit is sampled before
-// every timed cycle and after the last.
-std::vector<CycleCost> later_cycles(int n, const char* stiffness, const char* predictor, int cycles,
-                                    bench::BareConvolution& unit) {
+// Times every cycle, the first one from step 0 (the initial normal loading and, with a
+// stiffness solve, its k_x included); the unit is sampled before every cycle and after the
+// last.
+std::vector<CycleCost> all_cycles(int n, const char* stiffness, const char* predictor, int cycles,
+                                  bench::BareConvolution& unit) {
   auto model = build_model(parse_scenario(scenario(n, stiffness, predictor, cycles), "bench", "."));
   Stepper stepper(*model);
   std::size_t k = 0;
   std::vector<CycleCost> out;
   for (int c = 1; c <= cycles; ++c) {
-    if (c > 1) unit.sample();
+    unit.sample();
     const auto c0 = model->half_space->convolutions();
     const auto t0 = bench::Clock::now();
     const double cpu0 = bench::cpu_now();
     for (; k < stepper.steps() && model->path.steps[k].time <= c + 1e-12; ++k) stepper.advance(k);
-    if (c > 1)
-      out.push_back({bench::seconds_since(t0), bench::cpu_now() - cpu0,
-                     long(model->half_space->convolutions() - c0)});
+    out.push_back({bench::seconds_since(t0), bench::cpu_now() - cpu0,
+                   long(model->half_space->convolutions() - c0)});
   }
   unit.sample();
   return out;
@@ -91,10 +92,10 @@ int main(int argc, char** argv) {
     for (const char* predictor : {"none", "cycle"}) {
       const int cycles = predictor[0] == 'n' ? 2 : 3;
       for (const char* stiff : {"every", "turning", "none"}) {
-        std::vector<std::vector<double>> wall(cycles - 1), cpu(cycles - 1);
-        std::vector<long> conv(cycles - 1);
+        std::vector<std::vector<double>> wall(cycles), cpu(cycles);
+        std::vector<long> conv(cycles);
         for (int r = 0; r < repeats; ++r) {
-          const std::vector<CycleCost> cs = later_cycles(n, stiff, predictor, cycles, unit);
+          const std::vector<CycleCost> cs = all_cycles(n, stiff, predictor, cycles, unit);
           for (std::size_t i = 0; i < cs.size(); ++i)
             wall[i].push_back(cs[i].wall), cpu[i].push_back(cs[i].cpu),
                 conv[i] = cs[i].convolutions;
@@ -110,7 +111,7 @@ int main(int argc, char** argv) {
           std::printf(
               "| %d | %s | %s | %zu | %.3f | %.3f | %ld | %.3f | %.0f %% (%zu samples) | "
               "%.0f | %.2f |\n",
-              n, stiff, predictor, i + 2, bench::median(wall[i]), tm, conv[i], 1e3 * tc,
+              n, stiff, predictor, i + 1, bench::median(wall[i]), tm, conv[i], 1e3 * tc,
               100.0 * (*hi - *lo) / tc, t.size(), tm / tc, tm / tc / double(conv[i]));
         }
         std::fflush(stdout);

@@ -38,7 +38,8 @@ inline constexpr double kPredictedStepShare = 0.15;
 
 /// Each step's cost relative to a first tangential step (step 0 counts 1 too): 1 up to the
 /// path's second turning point, kSettledStepShare after it, kPredictedStepShare where the
-/// cycle predictor starts the step. What the estimate extrapolates with and what a run's
+/// cycle predictor starts the step; a step the Masing image starts counts kSettledStepShare
+/// before the second turning point and kPredictedStepShare after it. What the estimate extrapolates with and what a run's
 /// progress ETA counts on.
 std::vector<double> step_cost_shares(const Model& model);
 

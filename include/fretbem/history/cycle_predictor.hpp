@@ -26,6 +26,9 @@ class CyclePredictor {
   static std::vector<char> repeated_later(const std::vector<LoadStep>& steps);
   /// Same, for whether the transition occurred at an earlier step (the predictor has it).
   static std::vector<char> repeated_earlier(const std::vector<LoadStep>& steps);
+  /// For each step k: the latest earlier step with the same transition (the step whose
+  /// traction the predictor offers at k), or -1.
+  static std::vector<long> sources(const std::vector<LoadStep>& steps);
 
   /// The traction (Pa, full grid, operator components) remembered for a step that went from
   /// load `prev` to load `cur`, or nullptr. The pointer is valid until the next call.

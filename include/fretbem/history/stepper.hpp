@@ -12,6 +12,7 @@
 #include "fretbem/contact/step_work.hpp"
 #include "fretbem/history/cycle_predictor.hpp"
 #include "fretbem/history/failed_solve.hpp"
+#include "fretbem/history/masing_image.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/observables.hpp"
 #include "fretbem/history/observer.hpp"
@@ -32,6 +33,8 @@ struct StepperMemory {
   /// Coupling::coupled "pressure_slip0"/"pressure_slip1" (m). Empty: restore recomputes the
   /// bound from the state (a fresh start, or a checkpoint written without them).
   std::map<std::string, Field> fields;
+  /// MasingImage::flatten of the stepper's Masing image (empty: none recorded).
+  std::vector<double> masing;
 };
 
 class Stepper {
@@ -107,6 +110,8 @@ class Stepper {
   double wear_cycle_ = -1.0;          // < 0: not a wear run
   CyclePredictor predictor_;          ///< Model::cycle_predictor
   std::vector<char> repeated_later_;  ///< CyclePredictor::repeated_later of the path
+  MasingImage::Plan masing_plan_;     ///< MasingImage::plan of the model
+  MasingImage masing_;                ///< the Masing image's virgin table and branch origin
   const VecField* guess_ = nullptr;   ///< the predictor of the step being advanced
   /// The step being advanced is path step k on the path's first monotone segment, where the
   /// Ciavarella–Jäger shortcut holds. Only a path index says so: a step given explicitly (a

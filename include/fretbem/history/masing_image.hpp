@@ -1,0 +1,78 @@
+// MasingImage: a warm start for the tangential increments after a load reversal at constant
+// normal load (solver.predictor = auto | cycle).
+//
+// Under the Cattaneo–Mindlin analogy with constant Coulomb friction at constant normal load the
+// traction on a branch that starts at a turning point T is Masing's image of the virgin loading
+// (Mindlin & Deresiewicz 1953 for the sphere; Jäger 1998 and Ciavarella 1998 for any profile):
+//   tau(L) = tau_T + sign(L - L_T) 2 tau_v(|L - L_T| / 2),
+// L the tangential load (force in N under force control, rigid shift in m under displacement
+// control) and tau_v(l) the virgin traction at load l. The virgin tractions are recorded while
+// the path loads monotonically from step 0 and interpolated linearly in the load between the
+// recorded levels ; the increment keeps the image only when its QP energy is below its own
+// start's (contact/workspace.cpp), so the image changes the cost, never the answer beyond the
+// solver tolerance.
+#pragma once
+
+#include <vector>
+
+#include "fretbem/history/load_path.hpp"
+
+namespace fretbem {
+
+struct Model;
+
+class MasingImage {
+ public:
+  /// Memory bound of the virgin table: at most this many bytes per grid cell (a 64-step Hertz
+  /// cycle at 20 % contact records 16 levels: ~26 bytes per cell); further levels are not
+  /// recorded (the image then exists only up to the last recorded load).
+  static constexpr double kBytesPerCell = 128.0;
+
+  /// For each step k of a path: whether the increment of step k starts from the image. True on
+  /// the branches after the first turning point of a path whose normal load and control never
+  /// change, unless the cycle predictor (`predictor` = Model::cycle_predictor) holds that
+  /// step's transition from a step after the virgin segment (a steady cycle's own history is
+  /// exact and costs no extra product).
+  /// `level` is the load along the path's single direction (force in units of mu F_z, or N,
+  /// or shift in m, as the path states it: F_z is constant, so one unit for the whole path);
+  /// `virgin` marks steps 1 .. k_v that load monotonically from step 0, `turning` the steps
+  /// after which the load reverses. All empty when the path does not qualify.
+  struct Plan {
+    std::vector<char> image, virgin, turning;
+    std::vector<double> level;
+  };
+  static Plan plan(const LoadPath& path, bool predictor);
+  /// The plan of a model's run: empty unless the image is exact there (one traction component
+  /// under the analogy, a friction bound that does not evolve, no wear) and solver.predictor is
+  /// not `none` (which turns every warm start off).
+  static Plan plan(const Model& model);
+
+  /// A virgin step solved at load `level` with traction `tau` (one component, Pa).
+  void record_virgin(double level, const Field& tau, const Field& bound);
+  /// A step solved on a branch at load `level` with traction `tau`: by Masing's rule the
+  /// virgin traction at its half change, recorded as a further level.
+  void record_branch(double level, const Field& tau, const Field& bound);
+  /// A turning point solved at load `level` with traction `tau`: the origin of the next branch.
+  void record_turning(double level, const Field& tau);
+  /// The image at load `level` on the branch from the last turning point, or nullptr when the
+  /// load change lies beyond the recorded virgin levels. Valid until the next call.
+  const VecField* image(double level);
+
+  /// Restart support: the table and the branch origin as one flat list of numbers (the
+  /// checkpoint's dataset `masing`; empty when nothing is recorded), and the image it holds
+  /// for an nx x ny grid; throws std::runtime_error saying what is wrong on any inconsistency.
+  std::vector<double> flatten() const;
+  static MasingImage unflatten(const std::vector<double>& v, Eigen::Index nx, Eigen::Index ny);
+
+ private:
+  std::vector<Eigen::Index> nodes_;       ///< contact nodes of the virgin table
+  std::vector<double> levels_;            ///< |virgin load| per recorded level, increasing
+  std::vector<std::vector<double>> tau_;  ///< virgin traction on nodes_, per level
+  double sign_ = 1.0;                     ///< direction of the virgin loading
+  bool full_ = false;                     ///< the memory bound stopped recording
+  Field turning_;                         ///< traction at the last turning point
+  double turning_level_ = 0.0;
+  VecField image_;
+};
+
+}  // namespace fretbem
