@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "fretbem/contact/contact_entry.hpp"
 #include "fretbem/contact/monotone_shortcut.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/input_warning.hpp"
@@ -140,6 +141,10 @@ void Stepper::fail(const StepRecord& rec, const SolverError& e, FailedSolve f) c
 // the Coulomb bound mu p changed.
 bool Stepper::normal_step(const LoadStep& ls, StepRecord& rec) {
   if (last_normal_ && *last_normal_ == ls.normal && !surface_changed_) return false;
+  // Only a load that moves within the step moves the contact within it: a worn surface
+  // changed between steps, so what it brings into contact touched at the step's start.
+  load_moved_ = last_normal_.has_value() && !surface_changed_;
+  indentation_start_ = state_.indentation;
   solve_normal(ls, model_.surface, rec);
   return true;
 }
@@ -206,12 +211,39 @@ bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
                                                                   : inc.target.isZero(0.0));
   last_target_ = inc.target;
   if (same_load && !bound_changed) return false;
-  const TangentialResult r = solve_increment(inc, tau0, u0, rec);
-  rec.tangential_iterations = r.iterations;
+  TangentialResult r = solve_increment(inc, tau0, u0, rec);
+  int iterations = r.iterations;
+  // Nodes the growing contact took in part-way through the step stick from where they
+  // touched (contact/contact_entry.hpp): the increment again, from its own solution, against
+  // the reference with their free motion before that taken out.
+  VecField u0e;
+  Field theta;
+  if (load_moved_ && bound_moved_ &&
+      entry_fraction(gap_start(), pressure_start_, state_.pressure,
+                     model_.half_space->normal_self(), theta)) {
+    entry_reference(theta, r.shift, state_.displacement, state_.traction, op.self_compliance(), u0,
+                    u0e);
+    inc.u0 = &u0e;
+    inc.guess = nullptr;
+    r = solve_increment(inc, tau0, u0e, rec);
+    iterations += r.iterations;
+  }
+  rec.tangential_iterations = iterations;
   rec.tangential_residual = r.residual;
   state_.shift += op.to_global(r.shift);
-  accumulate_slip(u0, &tau0, r.shift, rec);
+  accumulate_slip(*inc.u0, &tau0, r.shift, rec);
   return true;
+}
+
+// The normal gap (m) at the start of the step: the separation z_max - z less the approach,
+// plus the normal displacement of the start pressure (one convolution; recomputed rather than
+// kept from the last normal solve so that a resumed run repeats the uninterrupted one).
+Field Stepper::gap_start() {
+  const Field& z = model_.surface;
+  const double datum = model_.surface0.maxCoeff() - z.maxCoeff();
+  Field uz;
+  model_.half_space->normal(pressure_start_, uz);
+  return uz + (z.maxCoeff() - z) - (indentation_start_ - datum);
 }
 
 // The increment's control and target in the operator's components: the shift increment from

@@ -85,6 +85,7 @@ class Stepper {
                                    const VecField& u0, StepRecord& rec);
   bool bound_after_slip(const VecField& u0, const Eigen::VectorXd& shift);
   bool tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec);
+  Field gap_start();
   bool shortcut_applies(std::size_t k) const;
   void shortcut_step(const LoadStep& ls, StepRecord& rec);
   [[noreturn]] void fail(const StepRecord& rec, const SolverError& e, FailedSolve f) const;
@@ -95,9 +96,11 @@ class Stepper {
   Model& model_;
   InterfaceState state_;
   Field bound_;
-  Field bound_start_;     ///< the bound before this step's normal solve (when it changed)
-  Field pressure_start_;  ///< the pressure before it
-  StepWork work_;         ///< the last step's slip, pressure along it and work
+  Field bound_start_;               ///< the bound before this step's normal solve (when it changed)
+  Field pressure_start_;            ///< the pressure before it
+  double indentation_start_ = 0.0;  ///< delta (m) before it
+  bool load_moved_ = false;  ///< the normal solve followed a change of the load, not the surface
+  StepWork work_;            ///< the last step's slip, pressure along it and work
   bool bound_moved_ = false;
   Field scale_bound_;            ///< the bound slip_threshold_ belongs to
   double slip_threshold_ = 0.0;  ///< slip of a slipping node in a step at least (m)
