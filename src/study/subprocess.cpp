@@ -5,11 +5,31 @@
 #include <sys/wait.h>
 
 #include <cerrno>
+#include <cstring>
 #include <fstream>
 
 extern char** environ;
 
 namespace fretbem {
+
+namespace {
+
+// The environment of a member: this process's, less what the MPI launcher set for its ranks
+// (OMPI_*, PMIX_*, PMI_*). A member is a serial `fretbem run`, not a rank: with
+// the launcher's OMPI_COMM_WORLD_SIZE = 2 it would take itself for a run under
+// `mpirun -n 2` and refuse (tests SweepMpi.*).
+std::vector<char*> member_environment() {
+  std::vector<char*> env;
+  for (char** e = environ; *e != nullptr; ++e) {
+    const bool launcher = std::strncmp(*e, "OMPI_", 5) == 0 || std::strncmp(*e, "PMIX_", 5) == 0 ||
+                          std::strncmp(*e, "PMI_", 4) == 0;
+    if (!launcher) env.push_back(*e);
+  }
+  env.push_back(nullptr);
+  return env;
+}
+
+}  // namespace
 
 pid_t spawn_logged(const std::vector<std::string>& args, const std::filesystem::path& log) {
   std::vector<std::string> copy = args;
@@ -20,8 +40,9 @@ pid_t spawn_logged(const std::vector<std::string>& args, const std::filesystem::
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
   posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  std::vector<char*> env = member_environment();
   pid_t pid = -1;
-  const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ);
+  const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), env.data());
   posix_spawn_file_actions_destroy(&fa);
   return rc == 0 ? pid : -1;
 }
