@@ -15,6 +15,7 @@
 
 #include "fretbem/contact/monotone_shortcut.hpp"
 #include "fretbem/core/errors.hpp"
+#include "fretbem/elastic/closed_forms.hpp"
 #include "fretbem/history/cycle_summary.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/preflight.hpp"
@@ -294,6 +295,22 @@ void bind_closed_forms(py::module_& m) {
   gw.def("b_of_force_ratio", &gw::b_of_force_ratio, py::arg("f"));
   gw.def("stiffness_ratio_flat", &gw::stiffness_ratio_flat, py::arg("f"));
   gw.def("stiffness_ratio_fractal", &gw::stiffness_ratio_fractal, py::arg("f"), py::arg("hurst"));
+  auto sphere = m.def_submodule(
+      "sphere", "Hertz, Cattaneo and Mindlin closed forms of a sphere on a flat (SI units)");
+  sphere.def("hertz_contact_radius", &closed_forms::hertz_contact_radius, py::arg("force"),
+             py::arg("radius"), py::arg("E_star"));
+  sphere.def("hertz_peak_pressure", &closed_forms::hertz_peak_pressure, py::arg("force"),
+             py::arg("a"));
+  sphere.def("hertz_approach", &closed_forms::hertz_approach, py::arg("a"), py::arg("radius"));
+  sphere.def("hertz_force", &closed_forms::hertz_force, py::arg("a"), py::arg("radius"),
+             py::arg("E_star"));
+  sphere.def("full_sliding_shift", &closed_forms::full_sliding_shift, py::arg("mu"),
+             py::arg("approach"), py::arg("E_star"), py::arg("G_star"));
+  sphere.def("cattaneo_stick_ratio", &closed_forms::cattaneo_stick_ratio, py::arg("q"));
+  sphere.def("cattaneo_shift_ratio", &closed_forms::cattaneo_shift_ratio, py::arg("q"));
+  sphere.def("cattaneo_force_ratio", &closed_forms::cattaneo_force_ratio, py::arg("shift_ratio"));
+  sphere.def("mindlin_energy_per_cycle", &closed_forms::mindlin_energy_per_cycle, py::arg("q"),
+             py::arg("mu"), py::arg("P"), py::arg("ustar"));
   m.def(
       "ciavarella_jaeger",
       [](PyStepper& s, double Ft) {

@@ -99,6 +99,27 @@ class Api(unittest.TestCase):
         c = fretbem.Contact((210e9, 0.3), mu=0.5, radius=0.01, normal_force=10)
         self.assertAlmostEqual(c.contact_radius * 1e6, 68.75, places=1)
 
+    def test_compiled_sphere_forms_equal_the_numpy_contact(self):
+        # One C++ home (fretbem.sphere) and the pure-numpy Contact the plot tools load without
+        # the compiled module: the same Johnson formulas, equal to rounding.
+        c = fretbem.Contact((210e9, 0.3), mu=0.5, radius=0.01, normal_force=10)
+        s = fretbem.sphere
+        a = s.hertz_contact_radius(10, 0.01, c.E_star)
+        self.assertAlmostEqual(a / c.hertz_radius(), 1.0, places=12)
+        self.assertAlmostEqual(s.hertz_peak_pressure(10, a) / c.hertz_peak_pressure(), 1.0,
+                               places=12)
+        delta = s.hertz_approach(a, 0.01)
+        self.assertAlmostEqual(delta / c.hertz_indentation(), 1.0, places=12)
+        us = s.full_sliding_shift(0.5, delta, c.E_star, c.G_star)
+        self.assertAlmostEqual(us / c.sliding_shift(delta), 1.0, places=12)
+        Q = 0.6 * 0.5 * 10
+        self.assertAlmostEqual(a * s.cattaneo_stick_ratio(0.6) / c.stick_radius(Q), 1.0,
+                               places=12)
+        self.assertAlmostEqual(us * s.cattaneo_shift_ratio(0.6) / float(c.md_shift(Q)), 1.0,
+                               places=12)
+        self.assertAlmostEqual(
+            s.mindlin_energy_per_cycle(0.6, 0.5, 10, us) / float(c.md_energy(Q)), 1.0, places=12)
+
     def test_cycles_equal_cycles_csv(self):
         header, cli = cli_table("cycles.csv")
         stepper = fretbem.Stepper(fretbem.Model(fretbem.Scenario.from_file(SCENARIO, SMALL)))

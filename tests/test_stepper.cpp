@@ -62,8 +62,7 @@ struct Mindlin {
   double unload(double Qa, double Q) const { return f(Qa) - 2 * f((Qa - Q) / 2); }
   double reload(double Qa, double Q) const { return -f(Qa) + 2 * f((Qa + Q) / 2); }
   double energy(double q) const {
-    return 24.0 / 5.0 * muP * ustar *
-           (1 - std::pow(1 - q, 5.0 / 3) - 5 * q / 6 * (1 + std::pow(1 - q, 2.0 / 3)));
+    return fretbem::closed_forms::mindlin_energy_per_cycle(q, 1.0, muP, ustar);
   }
 };
 

@@ -9,6 +9,7 @@
 
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/elastic/closed_forms.hpp"
 #include "fretbem/study/sweep_spec.hpp"
 #include "sweep_test_util.hpp"
 
@@ -24,12 +25,14 @@ struct Sphere {
   double E = 210e9, nu = 0.3, mu = 0.5, P = 10, R = 0.01, L = 2.8e-4;
   double E_star() const { return E / (1 - nu * nu); }
   double G_star() const { return 4 * (E / (2 * (1 + nu))) / (2 - nu); }
-  double a() const { return std::cbrt(3 * P * R / (4 * E_star())); }
-  double ustar() const { return mu * a() * a() / R * E_star() / G_star(); }  // U* = mu delta E*/G*
+  double a() const { return fretbem::closed_forms::hertz_contact_radius(P, R, E_star()); }
+  double ustar() const {
+    return fretbem::closed_forms::full_sliding_shift(
+        mu, fretbem::closed_forms::hertz_approach(a(), R), E_star(), G_star());
+  }
   // Johnson eq. 7.60: energy per cycle under +-Q*, q = Q*/mu P < 1.
   double md_energy(double q) const {
-    return 4.8 * mu * P * ustar() *
-           (1 - std::pow(1 - q, 5.0 / 3) - 5 * q / 6 * (1 + std::pow(1 - q, 2.0 / 3)));
+    return fretbem::closed_forms::mindlin_energy_per_cycle(q, mu, P, ustar());
   }
   // Displacement control +-D past full sliding (D >= u*): the rectangle 2D x 2 mu P less two
   // corners of (8/5) mu P u* each (the reversed branch needs 2u* to reach the opposite limit).

@@ -11,5 +11,5 @@ arrays, the Ciavarella–Jäger shortcut, the Greenwood–Williamson model and c
 See docs/python.md.
 """
 from ._fretbem import (InputError, Model, Scenario, SolverError, Stepper,  # noqa: F401
-                       __version__, ciavarella_jaeger, cycle_columns, gw)
+                       __version__, ciavarella_jaeger, cycle_columns, gw, sphere)
 from .closed_forms import Contact  # noqa: F401

@@ -128,10 +128,6 @@ void check_small_slip(const Scenario& sc, const ContactScales& s) {
 
 }  // namespace
 
-double full_sliding_shift(double mu, double approach, double E_star, double G_star) {
-  return mu * approach * E_star / G_star;
-}
-
 ContactScales contact_scales(const Scenario& sc, const LoadPath& path, const Field& surface) {
   ContactScales s;
   s.E_star = sc.material.E_star();
@@ -146,9 +142,9 @@ ContactScales contact_scales(const Scenario& sc, const LoadPath& path, const Fie
   double delta = std::max(s.max_indentation, s.max_normal_force / (s.E_star * L));
   if (sc.surface.type == SurfaceType::sphere && s.max_normal_force > 0.0) {
     const double F = s.max_normal_force, R = sc.surface.radius;
-    s.hertz_a = std::cbrt(3.0 * F * R / (4.0 * s.E_star));
-    s.hertz_p0 = 3.0 * F / (2.0 * std::numbers::pi * s.hertz_a * s.hertz_a);
-    s.hertz_delta = s.hertz_a * s.hertz_a / R;
+    s.hertz_a = closed_forms::hertz_contact_radius(F, R, s.E_star);
+    s.hertz_p0 = closed_forms::hertz_peak_pressure(F, s.hertz_a);
+    s.hertz_delta = closed_forms::hertz_approach(s.hertz_a, R);
     delta = std::max(delta, s.hertz_delta);
   }
   if (surface.size() > 0) delta = std::max(delta, surface.maxCoeff() - surface.minCoeff());

@@ -83,21 +83,21 @@ std::optional<SpherePrediction> predict_sphere(const Scenario& sc) {
   const double R = sc.surface.radius, Es = m.E_star(), h = sc.grid.h, L = sc.grid.length_x();
   SpherePrediction p;
   // Hertz (Johnson, Contact Mechanics, eqs. 4.22-4.23): a^3 = 3 P R / (4 E*), delta = a^2 / R.
-  p.a = l.normal_force ? std::cbrt(3 * *l.normal_force * R / (4 * Es))
+  p.a = l.normal_force ? closed_forms::hertz_contact_radius(*l.normal_force, R, Es)
                        : std::sqrt(R * *l.indentation);
   p.a_over_h = p.a / h;
   p.contact_nodes = M_PI * p.a_over_h * p.a_over_h;
-  p.ustar = full_sliding_shift(m.mu, p.a * p.a / R, Es, m.G_star());
+  p.ustar =
+      closed_forms::full_sliding_shift(m.mu, closed_forms::hertz_approach(p.a, R), Es, m.G_star());
   const bool cyclic = l.path == PathType::ramp || l.path == PathType::sine;
   if (cyclic && l.control == Control::force) p.q = l.amplitude;
   if (cyclic && l.control == Control::displacement) {
-    // Mindlin: U = u* (1 - (1 - q)^(2/3)) below full sliding.
-    const double r = l.displacement_amplitude / p.ustar;
-    p.q = r >= 1 ? 1.0 : 1 - std::pow(1 - r, 1.5);
+    p.q = closed_forms::cattaneo_force_ratio(l.displacement_amplitude / p.ustar);
     if (l.path == PathType::ramp) p.ramp_ratio = p.ustar / l.displacement_amplitude;
   }
   if (p.q > 0) {
-    const double w = p.a * (1 - std::cbrt(1 - std::min(p.q, 1.0)));
+    // Slip ring width a - c (Cattaneo c/a).
+    const double w = p.a * (1 - closed_forms::cattaneo_stick_ratio(std::min(p.q, 1.0)));
     p.ring_cells = w / h;
     p.suggested_n = int(std::ceil(kMinRingCells * L / w));
   }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "fretbem/core/format.hpp"
+#include "fretbem/elastic/closed_forms.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
 
@@ -20,7 +21,7 @@ using namespace fretbem;
 /// Unit sphere: E = 1, nu = 0.3 against a rigid flat (E* = 1 / (1 - nu^2)), R = 1, unit
 /// domain. This normal force gives the contact radius a = 1/4 (P = 4/3 E* a^3 / R).
 inline double unit_hertz_force() {
-  return 4.0 / 3.0 / (1 - 0.09) * std::pow(0.25, 3);
+  return closed_forms::hertz_force(0.25, 1.0, 1.0 / (1 - 0.09));
 }
 
 /// The unit sphere's scenario text on an n x n grid of side `length`, friction coefficient mu:

@@ -3,6 +3,7 @@
 // prepare_model (model.hpp), which calls these, so check refuses exactly what run refuses.
 #pragma once
 
+#include "fretbem/elastic/closed_forms.hpp"
 #include "fretbem/history/load_path.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/surface/surface.hpp"
@@ -42,8 +43,8 @@ struct ContactScales {
 inline constexpr double kMaxShiftOverContactRadius = 1.0, kWarnShiftOverContactRadius = 0.25;
 
 /// U* = mu delta E*/G* (m): the rigid shift at which a contact of approach delta slides as a
-/// whole (Mindlin; the paper's normalisation). One formula for check, run and every refusal.
-double full_sliding_shift(double mu, double approach, double E_star, double G_star);
+/// whole (Mindlin; the paper's normalisation), from the closed-form module.
+using closed_forms::full_sliding_shift;
 
 ContactScales contact_scales(const Scenario& sc, const LoadPath& path, const Field& surface);
 
