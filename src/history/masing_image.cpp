@@ -65,6 +65,13 @@ MasingImage::Plan MasingImage::plan(const Model& m) {
   return exact ? plan(m.path, m.cycle_predictor) : Plan{};
 }
 
+// One more level would pass kBytesPerCell per grid cell of `cells`: recording stops for good.
+bool MasingImage::stops_at_memory_bound(Eigen::Index cells) {
+  if (8.0 * double(nodes_.size()) * double(levels_.size() + 2) > kBytesPerCell * double(cells))
+    full_ = true;
+  return full_;
+}
+
 void MasingImage::record_virgin(double level, const Field& tau, const Field& bound) {
   if (full_) return;
   if (nodes_.empty()) {
@@ -72,11 +79,7 @@ void MasingImage::record_virgin(double level, const Field& tau, const Field& bou
       if (bound(k) > 0.0) nodes_.push_back(k);
     sign_ = level < 0.0 ? -1.0 : 1.0;
   }
-  const double bytes = 8.0 * double(nodes_.size()) * double(levels_.size() + 2);
-  if (bytes > kBytesPerCell * double(bound.size())) {
-    full_ = true;
-    return;
-  }
+  if (stops_at_memory_bound(bound.size())) return;
   const double l = std::abs(level);
   if (!levels_.empty() && !(l > levels_.back())) return;
   levels_.push_back(l);
@@ -96,11 +99,7 @@ void MasingImage::record_branch(double level, const Field& tau, const Field& bou
   if (!(half > gap) || (at != levels_.end() && *at - half <= gap) ||
       (at != levels_.begin() && half - *(at - 1) <= gap))
     return;
-  if (8.0 * double(nodes_.size()) * double(levels_.size() + 2) >
-      kBytesPerCell * double(bound.size())) {
-    full_ = true;
-    return;
-  }
+  if (stops_at_memory_bound(bound.size())) return;
   const double factor = 2.0 * (level < turning_level_ ? -1.0 : 1.0) * sign_;
   std::vector<double> v;
   v.reserve(nodes_.size());

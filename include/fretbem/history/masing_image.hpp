@@ -69,6 +69,7 @@ class MasingImage {
   std::vector<double> levels_;            ///< |virgin load| per recorded level, increasing
   std::vector<std::vector<double>> tau_;  ///< virgin traction on nodes_, per level
   double sign_ = 1.0;                     ///< direction of the virgin loading
+  bool stops_at_memory_bound(Eigen::Index cells);
   bool full_ = false;                     ///< the memory bound stopped recording
   Field turning_;                         ///< traction at the last turning point
   double turning_level_ = 0.0;
