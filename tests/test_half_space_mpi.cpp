@@ -67,34 +67,36 @@ void expect_distributed_equals_serial(const Grid& grid, Coupling coupling, const
   EXPECT_EQ(hd.sparse_limit(), 0u);
 }
 
+// Started by ctest: this test again under mpirun -n `ranks`; on the ranks: every operator of
+// steel on a rigid body, distributed against serial.
+void expect_on_ranks_equals_serial(int ranks, const Grid& grid, Coupling coupling) {
+  if (!mpi_test::on_ranks()) return mpi_test::run_on_ranks(ranks);
+  expect_distributed_equals_serial(grid, coupling, steel_on_rigid());
+}
+
 }  // namespace
 
 // Odd ny: the ranks' slabs differ in size, and with zero padding the second rank transforms
 // only padding rows (every field row moves to the first rank and back).
 TEST(HalfSpaceMpi, FreeAnalogyEqualsSerial) {
-  if (!mpi_test::on_ranks()) return mpi_test::run_on_ranks(2);
-  expect_distributed_equals_serial(Grid{20, 23, 1e-6, false}, Coupling::analogy, steel_on_rigid());
+  expect_on_ranks_equals_serial(2, Grid{20, 23, 1e-6, false}, Coupling::analogy);
 }
 
 TEST(HalfSpaceMpi, FreeCerrutiEqualsSerial) {
-  if (!mpi_test::on_ranks()) return mpi_test::run_on_ranks(2);
-  expect_distributed_equals_serial(Grid{20, 23, 1e-6, false}, Coupling::cerruti, steel_on_rigid());
+  expect_on_ranks_equals_serial(2, Grid{20, 23, 1e-6, false}, Coupling::cerruti);
 }
 
 TEST(HalfSpaceMpi, PeriodicAnalogyEqualsSerial) {
-  if (!mpi_test::on_ranks()) return mpi_test::run_on_ranks(2);
-  expect_distributed_equals_serial(Grid{18, 22, 1e-6, true}, Coupling::analogy, steel_on_rigid());
+  expect_on_ranks_equals_serial(2, Grid{18, 22, 1e-6, true}, Coupling::analogy);
 }
 
 TEST(HalfSpaceMpi, PeriodicCerrutiEqualsSerial) {
-  if (!mpi_test::on_ranks()) return mpi_test::run_on_ranks(2);
-  expect_distributed_equals_serial(Grid{18, 22, 1e-6, true}, Coupling::cerruti, steel_on_rigid());
+  expect_on_ranks_equals_serial(2, Grid{18, 22, 1e-6, true}, Coupling::cerruti);
 }
 
 // Three ranks on an even grid: blocks of 8, 8 and 6 rows.
 TEST(HalfSpaceMpi, ThreeRanksFreeCerrutiEqualsSerial) {
-  if (!mpi_test::on_ranks()) return mpi_test::run_on_ranks(3);
-  expect_distributed_equals_serial(Grid{16, 22, 1e-6, false}, Coupling::cerruti, steel_on_rigid());
+  expect_on_ranks_equals_serial(3, Grid{16, 22, 1e-6, false}, Coupling::cerruti);
 }
 
 // Identical bodies: coupled is Cerruti exactly (beta = 0) and is distributed; dissimilar

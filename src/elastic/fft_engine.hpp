@@ -18,8 +18,8 @@
 namespace fretbem::fft_detail {
 
 // A real kernel spectrum in the engine's precision: value k is scale * v[k]. In double the
-// scale is 1 and v the spectrum itself (the spectrum as the double transform gives it). In float v is
-// normalised to a largest magnitude of 1 and the scale applied when results are copied out in
+// scale is 1 and v the spectrum itself (the spectrum as the double transform gives it). In float v
+// is normalised to a largest magnitude of 1 and the scale applied when results are copied out in
 // double: compliances pre-divided by the transform size reach 1e-27 m/Pa for steel on fine
 // grids, too close to float's smallest normal number (1.2e-38) for comfort.
 template <class Real>
@@ -45,6 +45,27 @@ double spectrum_scale(std::initializer_list<const std::vector<double>*> spectra)
   for (const auto* s : spectra)
     for (double x : *s) top = std::max(top, std::abs(x));
   return top > 0.0 ? top : 1.0;
+}
+
+// c[k] *= s[k] for the first ns wave numbers: a convolution with a real kernel spectrum.
+template <class Real, class Complex>
+void multiply_spectrum(std::size_t ns, const Spectrum<Real>& s, Complex* c) {
+  const Real* sv = s.v.data();
+  for (std::size_t k = 0; k < ns; ++k) c[k][0] *= sv[k], c[k][1] *= sv[k];
+}
+
+// (x, y) = [sxx sxy; sxy syy] (tx, ty) for the first ns wave numbers, with tx in c1 and ty in
+// c2 on entry and x in c3, y in c1 on return: the Cerruti pair's spectral product.
+template <class Real, class Complex>
+void multiply_cerruti(std::size_t ns, const Spectrum<Real>& sxx, const Spectrum<Real>& sxy,
+                      const Spectrum<Real>& syy, Complex* c1, const Complex* c2, Complex* c3) {
+  for (std::size_t k = 0; k < ns; ++k) {
+    for (int c = 0; c < 2; ++c) {
+      const Real a = c1[k][c], b = c2[k][c];
+      c3[k][c] = sxx.v[k] * a + sxy.v[k] * b;
+      c1[k][c] = sxy.v[k] * a + syy.v[k] * b;
+    }
+  }
 }
 
 // Plans and buffers for real convolutions in precision Real on an n0 x n1 (row-major, n1
@@ -176,9 +197,7 @@ struct Engine {
     if (pruned()) return convolve_pruned(s, in, out, nx, ny, factor);
     load(in);
     r2c(c1.get());
-    const std::size_t ns = std::size_t(n0) * nc;
-    const Real* sv = s.v.data();
-    for (std::size_t k = 0; k < ns; ++k) c1[k][0] *= sv[k], c1[k][1] *= sv[k];
+    multiply_spectrum(std::size_t(n0) * nc, s, c1.get());
     c2r(c1.get());
     out.resize(nx, ny);
     store(out, s.scale * factor);
@@ -191,9 +210,7 @@ struct Engine {
     load(in);
     Api::execute(rows_forward);
     Api::execute(columns_forward);
-    const std::size_t ns = std::size_t(n0) * nc;
-    const Real* sv = s.v.data();
-    for (std::size_t k = 0; k < ns; ++k) c1[k][0] *= sv[k], c1[k][1] *= sv[k];
+    multiply_spectrum(std::size_t(n0) * nc, s, c1.get());
     Api::execute(columns_inverse);
     Api::execute(rows_inverse);
     out.resize(nx, ny);
@@ -211,14 +228,7 @@ struct Engine {
   // (ux, uy) = [sxx sxy; sxy syy] * (tx, ty): the Cerruti pair, two transforms each way.
   void convolve_pair(const Field& tx, const Field& ty, Field& ux, Field& uy, int nx, int ny) {
     forward_pair(tx, ty);
-    const std::size_t ns = std::size_t(n0) * nc;
-    for (std::size_t k = 0; k < ns; ++k) {
-      for (int c = 0; c < 2; ++c) {
-        const Real a = c1[k][c], b = c2[k][c];
-        c3[k][c] = sxx.v[k] * a + sxy.v[k] * b;
-        c1[k][c] = sxy.v[k] * a + syy.v[k] * b;
-      }
-    }
+    multiply_cerruti(std::size_t(n0) * nc, sxx, sxy, syy, c1.get(), c2.get(), c3.get());
     ux.resize(nx, ny);
     uy.resize(nx, ny);
     c2r(c3.get());

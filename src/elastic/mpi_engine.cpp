@@ -80,61 +80,47 @@ void MpiEngine::plan() {
 
 // Field rows travel whole (nx values each), in ascending row order per peer, so that sender
 // and receiver agree on the order without an index list.
-void MpiEngine::scatter(const Field& f) {
-  const auto t0 = Clock::now();
+void MpiEngine::move_rows(const std::vector<RowBlock>& from, const std::vector<RowBlock>& to,
+                          Rows<const double> source, double scale, Rows<double> dest) {
   const int K = comm_.size(), me = comm_.rank(), nx = grid_.nx, ny = grid_.ny;
   std::vector<int> sc(K), sd(K), rc(K), rd(K);
   send_.clear();
   for (int q = 0; q < K; ++q) {
-    const RowBlock o = overlap(field_[me], transform_[q], ny);
+    const RowBlock o = overlap(from[me], to[q], ny);
     sd[q] = int(send_.size()), sc[q] = o.count * nx;
     for (int j = o.first; j < o.first + o.count; ++j) {
-      const double* col = f.data() + std::size_t(j - field_[me].first) * nx;
-      send_.insert(send_.end(), col, col + nx);
-    }
-  }
-  int total = 0;
-  for (int q = 0; q < K; ++q)
-    rd[q] = total, rc[q] = overlap(field_[q], transform_[me], ny).count * nx, total += rc[q];
-  recv_.resize(total);
-  MPI_Alltoallv(send_.data(), sc.data(), sd.data(), MPI_DOUBLE, recv_.data(), rc.data(), rd.data(),
-                MPI_DOUBLE, *static_cast<const MPI_Comm*>(comm_.native()));
-  std::fill_n(rin.get(), std::size_t(local_n0) * 2 * nc, 0.0);
-  for (int q = 0; q < K; ++q) {
-    const RowBlock o = overlap(field_[q], transform_[me], ny);
-    for (int j = o.first; j < o.first + o.count; ++j)
-      std::copy_n(recv_.data() + rd[q] + std::size_t(j - o.first) * nx, nx,
-                  rin.get() + std::size_t(j - local_0) * 2 * nc);
-  }
-  seconds_moving += since(t0);
-}
-
-void MpiEngine::gather(Field& f, double scale) {
-  const auto t0 = Clock::now();
-  const int K = comm_.size(), me = comm_.rank(), nx = grid_.nx, ny = grid_.ny;
-  std::vector<int> sc(K), sd(K), rc(K), rd(K);
-  send_.clear();
-  for (int q = 0; q < K; ++q) {
-    const RowBlock o = overlap(field_[q], transform_[me], ny);
-    sd[q] = int(send_.size()), sc[q] = o.count * nx;
-    for (int j = o.first; j < o.first + o.count; ++j) {
-      const double* row = rout.get() + std::size_t(j - local_0) * 2 * nc;
+      const double* row = source.row(j);
       for (int i = 0; i < nx; ++i) send_.push_back(scale * row[i]);
     }
   }
   int total = 0;
   for (int q = 0; q < K; ++q)
-    rd[q] = total, rc[q] = overlap(field_[me], transform_[q], ny).count * nx, total += rc[q];
+    rd[q] = total, rc[q] = overlap(from[q], to[me], ny).count * nx, total += rc[q];
   recv_.resize(total);
   MPI_Alltoallv(send_.data(), sc.data(), sd.data(), MPI_DOUBLE, recv_.data(), rc.data(), rd.data(),
                 MPI_DOUBLE, *static_cast<const MPI_Comm*>(comm_.native()));
-  f.resize(nx, field_[me].count);
   for (int q = 0; q < K; ++q) {
-    const RowBlock o = overlap(field_[me], transform_[q], ny);
+    const RowBlock o = overlap(from[q], to[me], ny);
     for (int j = o.first; j < o.first + o.count; ++j)
-      std::copy_n(recv_.data() + rd[q] + std::size_t(j - o.first) * nx, nx,
-                  f.data() + std::size_t(j - field_[me].first) * nx);
+      std::copy_n(recv_.data() + rd[q] + std::size_t(j - o.first) * nx, nx, dest.row(j));
   }
+}
+
+void MpiEngine::scatter(const Field& f) {
+  const auto t0 = Clock::now();
+  const RowBlock mine = field_[comm_.rank()];
+  std::fill_n(rin.get(), std::size_t(local_n0) * 2 * nc, 0.0);
+  move_rows(field_, transform_, {f.data(), mine.first, std::size_t(grid_.nx)}, 1.0,
+            {rin.get(), local_0, 2 * std::size_t(nc)});
+  seconds_moving += since(t0);
+}
+
+void MpiEngine::gather(Field& f, double scale) {
+  const auto t0 = Clock::now();
+  const RowBlock mine = field_[comm_.rank()];
+  f.resize(grid_.nx, mine.count);
+  move_rows(transform_, field_, {rout.get(), local_0, 2 * std::size_t(nc)}, scale,
+            {f.data(), mine.first, std::size_t(grid_.nx)});
   seconds_moving += since(t0);
 }
 
@@ -259,23 +245,14 @@ void MpiEngine::build_kernels(const kernel_values::Constants& c) {
 void MpiEngine::convolve(const Spectrum<double>& s, const Field& in, Field& out, int, int,
                          double factor) {
   forward(in, c1.get());
-  const std::size_t ns = std::size_t(local_n1) * n0;
-  const double* sv = s.v.data();
-  for (std::size_t k = 0; k < ns; ++k) c1[k][0] *= sv[k], c1[k][1] *= sv[k];
+  multiply_spectrum(std::size_t(local_n1) * n0, s, c1.get());
   inverse(c1.get(), out, s.scale * factor);
 }
 
 void MpiEngine::convolve_pair(const Field& tx, const Field& ty, Field& ux, Field& uy, int, int) {
   forward(tx, c1.get());
   forward(ty, c2.get());
-  const std::size_t ns = std::size_t(local_n1) * n0;
-  for (std::size_t k = 0; k < ns; ++k) {
-    for (int c = 0; c < 2; ++c) {
-      const double a = c1[k][c], b = c2[k][c];
-      c3[k][c] = sxx.v[k] * a + sxy.v[k] * b;
-      c1[k][c] = sxy.v[k] * a + syy.v[k] * b;
-    }
-  }
+  multiply_cerruti(std::size_t(local_n1) * n0, sxx, sxy, syy, c1.get(), c2.get(), c3.get());
   inverse(c3.get(), ux, sxx.scale);
   inverse(c1.get(), uy, sxx.scale);
 }

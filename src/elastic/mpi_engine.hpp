@@ -26,6 +26,15 @@ struct RowBlock {
   int count = 0;
 };
 
+/// Rows of a row-major array: row j starts at data + (j - first) * stride.
+template <class T>
+struct Rows {
+  T* data;
+  long first;
+  std::size_t stride;
+  T* row(int j) const { return data + std::size_t(j - first) * stride; }
+};
+
 /// The block of rank r of K when ny rows are split as FFTW-MPI splits them: ceil(ny / K) rows
 /// per rank, the last ranks fewer or none.
 RowBlock row_block(int ny, int rank, int ranks);
@@ -63,6 +72,10 @@ class MpiEngine {
   void plan();
   void scatter(const Field& f);         // field slab -> rin (zero elsewhere)
   void gather(Field& f, double scale);  // rout's field rows -> field slab
+  // This rank's rows of `from` to the ranks whose `to` block holds them, times `scale`, and
+  // the rows of its own `to` block from their owners (one MPI_Alltoallv).
+  void move_rows(const std::vector<RowBlock>& from, const std::vector<RowBlock>& to,
+                 Rows<const double> source, double scale, Rows<double> dest);
   void forward(const Field& f, fftw_complex* out);
   void inverse(fftw_complex* in, Field& f, double scale);
   std::vector<double> spectrum_of_rows(const kernel_values::Constants& c, int which);

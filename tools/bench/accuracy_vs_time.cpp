@@ -46,15 +46,15 @@ struct Options {
 };
 
 void usage(int status) {
-  std::fprintf(status ? stderr : stdout,
-               "usage: bench_accuracy_vs_time [--min-n N] [--max-n N] [--repeats R] "
-               "[--large-repeats R] [--case hertz|cattaneo|mindlin|all] "
-               "[--fft double|float|both] [--tols T1,T2,...]\n"
-               "  --large-repeats R   repeats for n >= 512 (default 1)\n"
-               "  --fft P             FFT precision series (default both; float skips "
-               "tolerances below its floor)\n"
-               "  --tols LIST         solver tolerances (default 1e-4,1e-6,1e-8,1e-10,1e-12)\n");
-  std::exit(status);
+  bench::exit_with_usage(
+      status,
+      "usage: bench_accuracy_vs_time [--min-n N] [--max-n N] [--repeats R] "
+      "[--large-repeats R] [--case hertz|cattaneo|mindlin|all] "
+      "[--fft double|float|both] [--tols T1,T2,...]\n"
+      "  --large-repeats R   repeats for n >= 512 (default 1)\n"
+      "  --fft P             FFT precision series (default both; float skips "
+      "tolerances below its floor)\n"
+      "  --tols LIST         solver tolerances (default 1e-4,1e-6,1e-8,1e-10,1e-12)\n");
 }
 
 Options parse(int argc, char** argv) {

@@ -70,6 +70,13 @@ inline double load_average() {
   return l;
 }
 
+/// Prints a benchmark's usage text, on stdout for --help (status 0) and on stderr otherwise, and
+/// exits with `status`.
+[[noreturn]] inline void exit_with_usage(int status, const char* text) {
+  std::fputs(text, status ? stderr : stdout);
+  std::exit(status);
+}
+
 /// Integer option value in [lo, hi], or exit(2) with the usage.
 inline int int_arg(int argc, char** argv, int& i, int lo, int hi, void (*usage)(int)) {
   if (i + 1 >= argc) usage(2);
@@ -88,7 +95,7 @@ struct IntOption {
 
 /// Parses a command line of integer options only; --help/-h exit(0) with the usage, anything
 /// else exit(2) with it.
-inline void parse_int_options(int argc, char** argv, std::initializer_list<IntOption> options,
+inline void parse_int_options(int argc, char** argv, const std::vector<IntOption>& options,
                               void (*usage)(int)) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -99,6 +106,17 @@ inline void parse_int_options(int argc, char** argv, std::initializer_list<IntOp
     if (!hit) usage(2);
     *hit->value = int_arg(argc, argv, i, hit->lo, hit->hi, usage);
   }
+}
+
+/// parse_int_options with the options of a benchmark over a range of grids first: --min-n and
+/// --max-n (cells a side, 8 to 16384) and --repeats (1 to 1000); then its own `more`.
+inline void parse_grid_range(int argc, char** argv, int& min_n, int& max_n, int& repeats,
+                             std::initializer_list<IntOption> more, void (*usage)(int)) {
+  std::vector<IntOption> options{{"--min-n", &min_n, 8, 1 << 14},
+                                 {"--max-n", &max_n, 8, 1 << 14},
+                                 {"--repeats", &repeats, 1, 1000}};
+  options.insert(options.end(), more);
+  parse_int_options(argc, argv, options, usage);
 }
 
 }  // namespace bench

@@ -60,8 +60,7 @@ double bare_convolution() {
 }
 
 void usage(int code) {
-  std::fprintf(code ? stderr : stdout, "usage: bench_coupling [--n N] [--steps S]\n");
-  std::exit(code);
+  bench::exit_with_usage(code, "usage: bench_coupling [--n N] [--steps S]\n");
 }
 
 }  // namespace

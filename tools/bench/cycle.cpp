@@ -68,9 +68,7 @@ std::vector<CycleCost> all_cycles(int n, const char* stiffness, const char* pred
 int max_n = 512, min_n = 128, repeats = 3;
 
 void usage(int code) {
-  std::fprintf(code ? stderr : stdout,
-               "usage: bench_cycle [--min-n N] [--max-n N] [--repeats R]\n");
-  std::exit(code);
+  bench::exit_with_usage(code, "usage: bench_cycle [--min-n N] [--max-n N] [--repeats R]\n");
 }
 
 }  // namespace

@@ -20,10 +20,10 @@
 #include <vector>
 
 #include "bench_util.hpp"
+#include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/elastic/grid.hpp"
 #include "fretbem/elastic/half_space.hpp"
 #include "fretbem/elastic/material.hpp"
-#include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/surface/surface.hpp"
 
 using namespace fretbem;
@@ -35,12 +35,11 @@ struct Options {
 };
 
 void usage(int status) {
-  std::fprintf(status ? stderr : stdout,
-               "usage: bench_fft_precision [--max-n N] [--max-solve-n N] [--repeats R]\n"
-               "  --max-n N        largest grid of the convolution table (default 1024)\n"
-               "  --max-solve-n N  largest grid of the Hertz solve table (default 512)\n"
-               "  --repeats R      timing repeats, median reported (default 5)\n");
-  std::exit(status);
+  bench::exit_with_usage(status,
+                         "usage: bench_fft_precision [--max-n N] [--max-solve-n N] [--repeats R]\n"
+                         "  --max-n N        largest grid of the convolution table (default 1024)\n"
+                         "  --max-solve-n N  largest grid of the Hertz solve table (default 512)\n"
+                         "  --repeats R      timing repeats, median reported (default 5)\n");
 }
 
 Options parse(int argc, char** argv) {

@@ -55,10 +55,9 @@ RunCost one_run(bench::BareConvolution& unit) {
 }
 
 void usage(int code) {
-  std::fprintf(code ? stderr : stdout,
-               "usage: bench_monotone [--n N] [--repeats R] [--plan estimate|measure] "
-               "[--hurst H]\n");
-  std::exit(code);
+  bench::exit_with_usage(code,
+                         "usage: bench_monotone [--n N] [--repeats R] [--plan estimate|measure] "
+                         "[--hurst H]\n");
 }
 
 }  // namespace

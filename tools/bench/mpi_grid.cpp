@@ -26,10 +26,9 @@ struct Options {
 };
 
 void usage(int status) {
-  std::fprintf(status ? stderr : stdout,
-               "usage: mpirun -n K bench_mpi_grid [--min-n N] [--max-n N] [--repeats R] "
-               "[--solve-max-n N]\n");
-  std::exit(status);
+  bench::exit_with_usage(status,
+                         "usage: mpirun -n K bench_mpi_grid [--min-n N] [--max-n N] [--repeats R] "
+                         "[--solve-max-n N]\n");
 }
 
 double now() {
@@ -104,12 +103,8 @@ void row(const Communicator& c, int n, const Options& o) {
 
 int main(int argc, char** argv) {
   Options o;
-  bench::parse_int_options(argc, argv,
-                           {{"--min-n", &o.min_n, 8, 1 << 14},
-                            {"--max-n", &o.max_n, 8, 1 << 14},
-                            {"--repeats", &o.repeats, 1, 1000},
-                            {"--solve-max-n", &o.solve_max_n, 0, 1 << 14}},
-                           usage);
+  bench::parse_grid_range(argc, argv, o.min_n, o.max_n, o.repeats,
+                          {{"--solve-max-n", &o.solve_max_n, 0, 1 << 14}}, usage);
   const Communicator& c = world_communicator();
   if (c.rank() == 0)
     std::printf(

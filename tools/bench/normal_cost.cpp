@@ -24,20 +24,15 @@ struct Options {
 };
 
 void usage(int status) {
-  std::fprintf(status ? stderr : stdout,
-               "usage: bench_normal_cost [--min-n N] [--max-n N] [--repeats R] "
-               "[--large-repeats R (n >= 1024)]\n");
-  std::exit(status);
+  bench::exit_with_usage(status,
+                         "usage: bench_normal_cost [--min-n N] [--max-n N] [--repeats R] "
+                         "[--large-repeats R (n >= 1024)]\n");
 }
 
 Options parse(int argc, char** argv) {
   Options o;
-  bench::parse_int_options(argc, argv,
-                           {{"--min-n", &o.min_n, 8, 1 << 14},
-                            {"--max-n", &o.max_n, 8, 1 << 14},
-                            {"--repeats", &o.repeats, 1, 1000},
-                            {"--large-repeats", &o.large_repeats, 1, 1000}},
-                           usage);
+  bench::parse_grid_range(argc, argv, o.min_n, o.max_n, o.repeats,
+                          {{"--large-repeats", &o.large_repeats, 1, 1000}}, usage);
   return o;
 }
 

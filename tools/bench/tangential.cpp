@@ -31,8 +31,8 @@
 
 #include "bench_util.hpp"
 #include "fretbem/contact/normal_solver.hpp"
-#include "fretbem/surface/surface.hpp"
 #include "fretbem/contact/tangential_solver.hpp"
+#include "fretbem/surface/surface.hpp"
 
 using namespace fretbem;
 using bench::Clock;
@@ -46,11 +46,11 @@ struct Options {
 };
 
 void usage(int status) {
-  std::fprintf(status ? stderr : stdout,
-               "usage: bench_tangential [--min-n N] [--max-n N] [--repeats R] [--threads T] "
-               "[--tol X] [--case cattaneo|rough|both] [--algorithm projected|partition|both] "
-               "[--precondition off|on|auto|compare] [--rough-contact F]\n");
-  std::exit(status);
+  bench::exit_with_usage(
+      status,
+      "usage: bench_tangential [--min-n N] [--max-n N] [--repeats R] [--threads T] "
+      "[--tol X] [--case cattaneo|rough|both] [--algorithm projected|partition|both] "
+      "[--precondition off|on|auto|compare] [--rough-contact F]\n");
 }
 
 Options parse(int argc, char** argv) {
