@@ -15,6 +15,7 @@
 #include <string>
 
 #include "fretbem/parallel/communicator.hpp"
+#include "support/temp_dir.hpp"
 
 namespace mpi_test {
 
@@ -33,8 +34,7 @@ inline bool on_ranks() {
 inline void run_on_ranks(int ranks) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   const std::string name = std::string(info->test_suite_name()) + "." + info->name();
-  const fs::path log = fs::temp_directory_path() /
-                       ("fretbem_mpi_test_" + std::to_string(getpid()) + "_" + info->name());
+  const fs::path log = fretbem_test::process_temp_dir() / ("mpi_" + std::string(info->name()));
   const std::string cmd = "ASAN_OPTIONS=\"${ASAN_OPTIONS:-}:detect_leaks=0\" timeout 300 " +
                           std::string(FRETBEM_MPIEXEC) +
                           " --allow-run-as-root --oversubscribe -n " + std::to_string(ranks) + " " +

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "support/temp_dir.hpp"
+
 namespace sweep_test {
 
 namespace fs = std::filesystem;
@@ -28,11 +30,7 @@ inline std::string slurp(const fs::path& p) {
 
 // A fresh directory per test process (ctest runs cases in parallel processes).
 inline fs::path scratch(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("fretbem_sweep_test_" + std::to_string(getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return fretbem_test::process_temp_dir().fresh(name);
 }
 
 // Runs a shell command line; captures stdout and stderr.

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "support/cli.hpp"
+#include "support/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 
@@ -91,8 +92,8 @@ TEST(Cli, CheckPrintsWearCyclesAsIntegers) {
 }
 
 TEST(Cli, RunWritesTheContractColumns) {
-  const fs::path dir = fs::temp_directory_path() / ("fretbem_cli_run_" + std::to_string(getpid()));
-  fs::remove_all(dir);
+  const fretbem_test::TempDir tmp("cli_run");
+  const fs::path dir = tmp / "run";
   const Result r =
       fretbem("run " + scenario("cattaneo.ini") + " --quiet --set grid.n=32 --out " + dir.string());
   ASSERT_EQ(r.status, 0) << r.err;
@@ -109,25 +110,23 @@ TEST(Cli, RunWritesTheContractColumns) {
   EXPECT_EQ(rows, 20);  // row 0 plus load.steps = 19
   EXPECT_TRUE(fs::exists(dir / "result.h5"));
   EXPECT_TRUE(fs::exists(dir / "cycles.csv"));
-  fs::remove_all(dir);
 }
 
 TEST(Cli, SurfaceWritesAHeightMapAndStatistics) {
-  const fs::path out =
-      fs::temp_directory_path() / ("fretbem_cli_surface_" + std::to_string(getpid()) + ".npy");
+  const fretbem_test::TempDir tmp("cli_surface");
+  const fs::path out = tmp / "surface.npy";
   const Result r = fretbem("surface --set surface.hurst=0.6 --set grid.n=64 --out " + out.string());
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(fs::exists(out));
   EXPECT_NE(r.out.find("rms height"), std::string::npos);
   EXPECT_NE(r.out.find("Hurst"), std::string::npos);
-  fs::remove(out);
 }
 
 // One octave of fit range (n = 64) scattered fits of H = 0.8 from 0.66 to 1.55 over five seeds;
 // two octaves (n = 128, also as the short side of a rectangle) kept them within 0.16.
 TEST(Cli, SurfaceWarnsWhenTheHurstFitRestsOnTooFewWavelengths) {
-  const fs::path out =
-      fs::temp_directory_path() / ("fretbem_cli_hurst_" + std::to_string(getpid()) + ".npy");
+  const fretbem_test::TempDir tmp("cli_hurst");
+  const fs::path out = tmp / "surface.npy";
   for (const auto& [grid, warns] :
        {std::pair{"--set grid.n=64", true}, std::pair{"--set grid.n=32", true},
         std::pair{"--set grid.nx=256 --set grid.ny=64", true},
@@ -137,14 +136,13 @@ TEST(Cli, SurfaceWarnsWhenTheHurstFitRestsOnTooFewWavelengths) {
     EXPECT_EQ(r.err.find("warning: the Hurst fit rests on") != std::string::npos, warns)
         << grid << ": " << r.err;
   }
-  fs::remove(out);
 }
 
 // --quiet silences the progress report, not the results; steps are counted as
 // `check` counts them, row 0 (the normal loading) included.
 TEST(Cli, QuietKeepsTheSummaryAndStopsCountRows) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("fretbem_cli_quiet_" + std::to_string(getpid()));
+  const fretbem_test::TempDir tmp("cli_quiet");
+  const fs::path& dir = tmp.path();
   const std::string base = "run " + scenario("mindlin_cycle.ini") +
                            " --quiet --set grid.n=16 --set load.steps_per_cycle=8 --out ";
   const Result full = fretbem(base + (dir / "full").string());
@@ -163,16 +161,14 @@ TEST(Cli, QuietKeepsTheSummaryAndStopsCountRows) {
   const auto total = full.out.substr(9, full.out.find(" steps done") - 9);
   EXPECT_NE(part.out.find("stopped after 2 of " + total + " steps"), std::string::npos) << part.out;
   EXPECT_NE(check.out.find(total), std::string::npos) << check.out;
-  fs::remove_all(dir);
 }
 
 // A surface needs no scenario file, whichever scale the user sets.
 TEST(Cli, SurfaceWithoutScenarioTakesEitherScale) {
-  const fs::path out =
-      fs::temp_directory_path() / ("fretbem_cli_slope_" + std::to_string(getpid()) + ".npy");
+  const fretbem_test::TempDir tmp("cli_slope");
+  const fs::path out = tmp / "surface.npy";
   const Result r =
       fretbem("surface --set grid.n=32 --set surface.rms_slope=0.1 --out " + out.string());
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("rms slope  0.1"), std::string::npos) << r.out;
-  fs::remove(out);
 }

@@ -26,9 +26,7 @@ std::string scenario(const std::string& name) {
 }
 
 fs::path scratch(const std::string& name) {
-  const fs::path d = fretbem_test::process_dir("fretbem_cli_inputs") / name;
-  fs::remove_all(d);
-  return d;
+  return fretbem_test::process_temp_dir().vacant(name);
 }
 
 int count(const std::string& s, const std::string& what) {

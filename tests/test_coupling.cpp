@@ -18,6 +18,7 @@
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
 #include "support/hertz.hpp"
+#include "support/temp_dir.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -399,7 +400,8 @@ TEST(Coupling, NormalLoadingConvergesUnderRefinement) {
 TEST(Coupling, TightTolerancesConvergeWhereTheShearSlidesNearlyEverywhere) {
   const Material m = steel_on_aluminium();
   const double Fz = hertz_force(m.E_star(), 0.25);
-  const fs::path table = fs::temp_directory_path() / "coupling_normal_ramp.csv";
+  const fretbem_test::TempDir tmp("coupling");
+  const fs::path table = tmp / "normal_ramp.csv";
   std::ostringstream csv;
   csv << "time,Fz\n";
   for (int i = 0; i <= 3; ++i) csv << i / 3.0 << "," << Fz * (i + 1) / 4.0 << "\n";

@@ -13,6 +13,7 @@
 
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
+#include "support/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using fretbem::InputError;
@@ -20,10 +21,8 @@ namespace csv = fretbem::csv;
 
 namespace {
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("fretbem_csv_" + std::to_string(getpid()));
-  fs::create_directories(d);
-  return d;
+const fs::path& temp_dir() {
+  return fretbem_test::process_temp_dir().path();
 }
 
 fs::path write(const std::string& name, const std::string& text) {

@@ -28,6 +28,7 @@
 
 #include "fretbem/io/checkpoint.hpp"
 #include "support/child_process.hpp"
+#include "support/temp_dir.hpp"
 #include "support/varying_normal_table.hpp"
 
 namespace fs = std::filesystem;
@@ -112,12 +113,6 @@ void expect_same_rows(const fs::path& a, const fs::path& b) {
 
 class Faults : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("fretbem_faults_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   // The uninterrupted reference run (once per test).
   fs::path full() {
     const fs::path f = dir_ / "full";
@@ -135,7 +130,8 @@ class Faults : public ::testing::Test {
     }
     return f;
   }
-  fs::path dir_;
+  const fretbem_test::TempDir tmp_{"faults"};
+  const fs::path dir_ = tmp_.path();
 };
 
 // Rewrites one double dataset of a checkpoint (1-D or 2-D, new shape allowed).

@@ -17,6 +17,7 @@
 #include "fretbem/elastic/half_space.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "support/child_process.hpp"
+#include "support/temp_dir.hpp"
 
 namespace fretbem {
 namespace {
@@ -42,16 +43,10 @@ class WisdomFile {
   bool had_ = false;
 };
 
-fs::path fresh_folder(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
 TEST(FftWisdom, AutoMeasuresOnlyWhereWisdomIsKept) {
   EXPECT_EQ(Scenario{}.solver.fft_plan, FftPlanning::estimate);  // thread-count invariant bits
-  const fs::path dir = fresh_folder("fretbem_wisdom_auto");
+  const fretbem_test::TempDir tmp("wisdom_auto");
+  const fs::path& dir = tmp.path();
   {
     const WisdomFile w((dir / "sub" / "wisdom").string());  // a folder it may create
     EXPECT_TRUE(fft_wisdom::persistent(FftPrecision::float64));
@@ -64,7 +59,6 @@ TEST(FftWisdom, AutoMeasuresOnlyWhereWisdomIsKept) {
     const WisdomFile w("/proc/fretbem_no_such_folder/wisdom");  // cannot be created, even as root
     EXPECT_FALSE(fft_wisdom::persistent(FftPrecision::float64));
   }
-  fs::remove_all(dir);
 }
 
 // Whether /proc/locks lists a flock request of process `pid` that waits (a "->" entry): the
@@ -87,7 +81,8 @@ bool waits_for_flock(pid_t pid) {
 // planner (flock belongs to the open file, which fork shares) and never released for it. The
 // holder lets go only once the kernel lists the planner as waiting for the lock.
 TEST(FftWisdom, MeasuringWaitsForTheProcessThatHoldsTheLock) {
-  const fs::path dir = fresh_folder("fretbem_wisdom_lock");
+  const fretbem_test::TempDir tmp("wisdom_lock");
+  const fs::path& dir = tmp.path();
   const WisdomFile w((dir / "wisdom").string());
   int ready[2], release[2];
   ASSERT_EQ(::pipe(ready), 0);
@@ -128,7 +123,6 @@ TEST(FftWisdom, MeasuringWaitsForTheProcessThatHoldsTheLock) {
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0);
   for (int fd : {ready[0], ready[1], release[0], release[1]}) ::close(fd);
-  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -2,7 +2,6 @@
 // solution with mu_k; after gross sliding a law that has moved mu uniformly reproduces the
 // constant-mu solution with the new mu; a sliding contact carries mu_k F_z.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -12,6 +11,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "support/hertz.hpp"
+#include "support/temp_dir.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -38,8 +38,7 @@ double full_sliding_shift(double mu) {
 }
 
 fs::path shift_table(const std::vector<double>& ux) {
-  const fs::path f =
-      fs::temp_directory_path() / ("fretbem_friction_" + std::to_string(getpid()) + ".csv");
+  const fs::path f = fretbem_test::process_temp_dir() / "shift.csv";
   std::ofstream out(f);
   out.precision(17);
   out << "time,Ux\n";
@@ -101,7 +100,6 @@ TEST(FrictionLaw, UniformChangeReproducesConstantMu) {
   const auto ev = run(sphere(48, 0.3, load, evolving.str()));
   const auto c = run(sphere(48, 0.6, load, "law = constant\n"));
   const auto sk = run(sphere(48, 0.6, load, "law = static_kinetic\nmu_kinetic = 0.4\n"));
-  fs::remove(table);
   ASSERT_EQ(ev.size(), c.size());
   EXPECT_NEAR(ev[1].Fx, 0.3 * kP, 1e-8 * kP);  // first sliding step: mu_0
   for (std::size_t k = 2; k < c.size(); ++k) {

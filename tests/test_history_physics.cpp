@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "support/hertz.hpp"
+#include "support/temp_dir.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -23,7 +24,7 @@ std::string sphere_scenario(int n, const std::string& load) {
 }
 
 fs::path temp_path(const std::string& name) {
-  return fs::temp_directory_path() / ("fretbem_" + name + "_" + std::to_string(::getpid()));
+  return fretbem_test::process_temp_dir() / name;
 }
 
 // Table of F_z = P (1 + 0.3 sin 2 pi t), F_x = 0.5 mu P cos 2 pi t over three periods; with a

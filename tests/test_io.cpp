@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -17,28 +16,16 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/io/csv_writer.hpp"
 #include "fretbem/io/hdf5_writer.hpp"
+#include "support/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using fretbem::Field;
 using fretbem::InputError;
 using fretbem::io::CsvWriter;
 using fretbem::io::Hdf5Writer;
+using fretbem_test::TempDir;
 
 namespace {
-
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::random_device rd;
-    path = fs::temp_directory_path() /
-           ("fretbem_test_io_" + std::to_string(rd()) + std::to_string(rd()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
 
 std::vector<std::string> lines_of(const fs::path& p) {
   std::ifstream in(p);
@@ -151,8 +138,8 @@ Field ramp_field(int nx, int ny) {
 }  // namespace
 
 TEST(Csv, RoundTripsFullPrecisionAndNan) {
-  TempDir tmp;
-  const fs::path dir = tmp.path / "a" / "b";  // created on demand
+  const TempDir tmp("io");
+  const fs::path dir = tmp.path() / "a" / "b";  // created on demand
   const std::vector<double> row1 = {0.0, 1.0 / 3.0, std::nan(""), 1e-300, -2.5e17};
   const std::vector<double> row2 = {1.0, -std::nan(""), std::numeric_limits<double>::infinity(),
                                     std::nextafter(1.0, 2.0), -0.0};
@@ -186,40 +173,40 @@ TEST(Csv, RoundTripsFullPrecisionAndNan) {
 }
 
 TEST(Csv, AppendContinuesAndCutsATornLine) {
-  TempDir tmp;
-  { CsvWriter(tmp.path, "t", {"a", "b"}).row({1, 2}); }
-  { std::ofstream(tmp.path / "t.csv", std::ios::app) << "3,4"; }  // killed mid-row
+  const TempDir tmp("io");
+  { CsvWriter(tmp.path(), "t", {"a", "b"}).row({1, 2}); }
+  { std::ofstream(tmp.path() / "t.csv", std::ios::app) << "3,4"; }  // killed mid-row
   {
-    CsvWriter csv(tmp.path, "t", {"a", "b"}, /*append=*/true);
+    CsvWriter csv(tmp.path(), "t", {"a", "b"}, /*append=*/true);
     csv.row({5, 6});
   }
-  EXPECT_EQ(lines_of(tmp.path / "t.csv"), (std::vector<std::string>{"a,b", "1,2", "5,6"}));
-  EXPECT_THROW(CsvWriter(tmp.path, "t", {"a", "c"}, true), InputError);
+  EXPECT_EQ(lines_of(tmp.path() / "t.csv"), (std::vector<std::string>{"a,b", "1,2", "5,6"}));
+  EXPECT_THROW(CsvWriter(tmp.path(), "t", {"a", "c"}, true), InputError);
 }
 
 TEST(Csv, UnopenablePathIsAnInputErrorNamingIt) {
-  TempDir tmp;
-  std::ofstream(tmp.path / "file") << "x";
+  const TempDir tmp("io");
+  std::ofstream(tmp.path() / "file") << "x";
   try {
-    CsvWriter(tmp.path / "file", "t", {"a"});
+    CsvWriter(tmp.path() / "file", "t", {"a"});
     FAIL() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find((tmp.path / "file").string()), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find((tmp.path() / "file").string()), std::string::npos);
   }
 }
 
 TEST(Hdf5, FieldOrientationValuesAndCompression) {
-  TempDir tmp;
+  const TempDir tmp("io");
   const Field small = ramp_field(5, 3);
   const Field big = ramp_field(300, 200);
   {
-    Hdf5Writer h5(tmp.path / "run");
-    EXPECT_EQ(h5.path(), tmp.path / "run" / "result.h5");
+    Hdf5Writer h5(tmp.path() / "run");
+    EXPECT_EQ(h5.path(), tmp.path() / "run" / "result.h5");
     h5.write_field("/surface/initial", small);
     h5.write_field("/big", big);
     h5.write_field("/surface/initial", small * 2.0);  // replacing is allowed
   }
-  H5Reader r(tmp.path / "run" / "result.h5");
+  H5Reader r(tmp.path() / "run" / "result.h5");
   ASSERT_GE(r.file, 0);
   EXPECT_EQ(r.dims("/surface/initial"), (std::vector<hsize_t>{3, 5}));  // {ny, nx}
   const auto v = r.doubles("/surface/initial");
@@ -232,10 +219,10 @@ TEST(Hdf5, FieldOrientationValuesAndCompression) {
 }
 
 TEST(Hdf5, TextStepFieldsAndTimeseries) {
-  TempDir tmp;
+  const TempDir tmp("io");
   const std::string scenario = "[material]\nE = 1e9\n# ünïcode\n";
   {
-    Hdf5Writer h5(tmp.path);
+    Hdf5Writer h5(tmp.path());
     h5.write_text("/scenario", scenario);
     h5.write_step_fields(7, 0.25, {{"pressure", ramp_field(4, 2)}, {"state", Field::Ones(4, 2)}});
     h5.start_timeseries({"step", "time", "Fx"});
@@ -244,7 +231,7 @@ TEST(Hdf5, TextStepFieldsAndTimeseries) {
     EXPECT_THROW(h5.append_row({1.0, 2.0}), std::invalid_argument);
     EXPECT_EQ(h5.timeseries_rows(), 2u);
   }
-  H5Reader r(tmp.path / "result.h5");
+  H5Reader r(tmp.path() / "result.h5");
   EXPECT_EQ(r.text("/scenario"), scenario);
   EXPECT_EQ(r.dims("/fields/step_000007/pressure"), (std::vector<hsize_t>{2, 4}));
   EXPECT_EQ(r.doubles("/fields/step_000007/pressure")[1 * 4 + 3], ramp_field(4, 2)(3, 1));
@@ -260,33 +247,33 @@ TEST(Hdf5, TextStepFieldsAndTimeseries) {
 }
 
 TEST(Hdf5, ReadableWhileStillOpen) {
-  TempDir tmp;
-  Hdf5Writer h5(tmp.path);
+  const TempDir tmp("io");
+  Hdf5Writer h5(tmp.path());
   h5.start_timeseries({"a"});
   h5.append_row({42.0});
   // Flushed after each write: another handle sees the row although the writer is open.
-  H5Reader r(tmp.path / "result.h5");
+  H5Reader r(tmp.path() / "result.h5");
   ASSERT_GE(r.file, 0);
   EXPECT_EQ(r.doubles("/timeseries"), (std::vector<double>{42.0}));
 }
 
 TEST(Hdf5, OpenExistingAppendsAndTruncates) {
-  TempDir tmp;
+  const TempDir tmp("io");
   {
-    Hdf5Writer h5(tmp.path);
+    Hdf5Writer h5(tmp.path());
     h5.start_timeseries({"step", "Fx"});
     for (int k = 0; k < 5; ++k) h5.append_row({double(k), 10.0 * k});
     h5.write_step_fields(3, 3.0, {{"pressure", ramp_field(2, 2)}});
   }
   {
-    Hdf5Writer h5 = Hdf5Writer::open_existing(tmp.path);
+    Hdf5Writer h5 = Hdf5Writer::open_existing(tmp.path());
     EXPECT_EQ(h5.timeseries_rows(), 5u);
     EXPECT_EQ(h5.timeseries_columns(), (std::vector<std::string>{"step", "Fx"}));
     h5.truncate_timeseries(3);
     h5.append_row({3.0, -1.0});
     h5.write_step_fields(3, 3.0, {{"pressure", ramp_field(2, 2) * 0.0}});  // replaced
   }
-  H5Reader r(tmp.path / "result.h5");
+  H5Reader r(tmp.path() / "result.h5");
   EXPECT_EQ(r.dims("/timeseries"), (std::vector<hsize_t>{4, 2}));
   EXPECT_EQ(r.doubles("/timeseries"), (std::vector<double>{0, 0, 1, 10, 2, 20, 3, -1}));
   EXPECT_EQ(r.doubles("/fields/step_000003/pressure"), (std::vector<double>(4, 0.0)));
@@ -298,14 +285,14 @@ TEST(Hdf5, OpenExistingAppendsAndTruncates) {
 // netCDF-4 readers see one variable per column: /series/timeseries/COLUMN over the dimension
 // scale `step` (int64), with the column's units, labelled by the load-path time.
 TEST(Hdf5, TimeseriesColumnsAreVariablesOverStep) {
-  TempDir tmp;
+  const TempDir tmp("io");
   {
-    Hdf5Writer h5(tmp.path);
+    Hdf5Writer h5(tmp.path());
     h5.start_timeseries({"step", "time", "Fx", "Ux", "contact_area"});
     h5.append_row({0, 0.0, 0.0, 0.0, 1e-8});
     h5.append_row({1, 0.5, 2.5, 1e-6, std::nan("")});
   }
-  H5Reader r(tmp.path / "result.h5");
+  H5Reader r(tmp.path() / "result.h5");
   const std::string g = "/series/timeseries/";
   EXPECT_EQ(r.dims(g + "step"), (std::vector<hsize_t>{2}));
   EXPECT_EQ(r.doubles(g + "time"), (std::vector<double>{0.0, 0.5}));
@@ -327,22 +314,22 @@ TEST(Hdf5, TimeseriesColumnsAreVariablesOverStep) {
 
 // A file without the per-column variables (format 3) gets them from /timeseries on reopening.
 TEST(Hdf5, OpenExistingRebuildsTheColumnVariables) {
-  TempDir tmp;
+  const TempDir tmp("io");
   {
-    Hdf5Writer h5(tmp.path);
+    Hdf5Writer h5(tmp.path());
     h5.start_timeseries({"step", "Fx"});
     for (int k = 0; k < 3; ++k) h5.append_row({double(k), 10.0 * k});
   }
   {
-    const hid_t f = H5Fopen((tmp.path / "result.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    const hid_t f = H5Fopen((tmp.path() / "result.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
     ASSERT_GE(H5Ldelete(f, "/series/timeseries", H5P_DEFAULT), 0);
     H5Fclose(f);
   }
   {
-    Hdf5Writer h5 = Hdf5Writer::open_existing(tmp.path);
+    Hdf5Writer h5 = Hdf5Writer::open_existing(tmp.path());
     h5.append_row({3.0, 30.0});
   }
-  H5Reader r(tmp.path / "result.h5");
+  H5Reader r(tmp.path() / "result.h5");
   EXPECT_EQ(r.doubles("/series/timeseries/step"), (std::vector<double>{0, 1, 2, 3}));
   EXPECT_EQ(r.doubles("/series/timeseries/Fx"), (std::vector<double>{0, 10, 20, 30}));
 }
@@ -352,13 +339,13 @@ TEST(Hdf5, OpenExistingRebuildsTheColumnVariables) {
 // that stacks them and from step groups on both sides of 4096 (attaching shared scales to
 // every step's fields failed near there).
 TEST(Hdf5, TenThousandSavedStepsReadBack) {
-  TempDir tmp;
+  const TempDir tmp("io");
   const int steps = 10000, n = 8;
   const auto pressure = [&](int k) { return Field(ramp_field(n, n) + 1e-3 * k); };
   const auto state = [&](int k) { return Field(Field::Constant(n, n, double(k % 3))); };
   {
-    Hdf5Writer h5(tmp.path / "run");
-    h5.describe(fretbem::Grid::square(n, 1e-3), tmp.path / "run");
+    Hdf5Writer h5(tmp.path() / "run");
+    h5.describe(fretbem::Grid::square(n, 1e-3), tmp.path() / "run");
     for (int k = 0; k < steps; ++k)
       h5.write_step_fields(k, 0.5 * k, {{"pressure", pressure(k)}, {"state", state(k)}});
   }
@@ -369,7 +356,7 @@ TEST(Hdf5, TenThousandSavedStepsReadBack) {
     groups.emplace_back(name);
   }
   for (const char* dir : {"run"}) {
-    H5Reader r(tmp.path / dir / "result.h5");
+    H5Reader r(tmp.path() / dir / "result.h5");
     ASSERT_GE(r.file, 0);
     EXPECT_EQ(r.dims("/series/fields/pressure"), (std::vector<hsize_t>{hsize_t(steps), 8, 8}));
     const auto index = r.doubles("/series/fields/step"), time = r.doubles("/series/fields/time");
@@ -392,8 +379,8 @@ TEST(Hdf5, TenThousandSavedStepsReadBack) {
 }
 
 TEST(Hdf5, ErrorsNameThePath) {
-  TempDir tmp;
-  std::ofstream(tmp.path / "file") << "x";
+  const TempDir tmp("io");
+  std::ofstream(tmp.path() / "file") << "x";
   const auto message = [](auto&& make) {
     try {
       make();
@@ -402,15 +389,16 @@ TEST(Hdf5, ErrorsNameThePath) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(message([&] { Hdf5Writer w(tmp.path / "file"); }).find((tmp.path / "file").string()),
-            std::string::npos);
+  EXPECT_NE(
+      message([&] { Hdf5Writer w(tmp.path() / "file"); }).find((tmp.path() / "file").string()),
+      std::string::npos);
   EXPECT_NE(message([&] {
-              Hdf5Writer::open_existing(tmp.path / "none");
-            }).find((tmp.path / "none" / "result.h5").string()),
+              Hdf5Writer::open_existing(tmp.path() / "none");
+            }).find((tmp.path() / "none" / "result.h5").string()),
             std::string::npos);
-  std::ofstream(tmp.path / "result.h5") << "not hdf5";
-  EXPECT_THROW(Hdf5Writer::open_existing(tmp.path), InputError);
-  Hdf5Writer h5(tmp.path / "ok");
+  std::ofstream(tmp.path() / "result.h5") << "not hdf5";
+  EXPECT_THROW(Hdf5Writer::open_existing(tmp.path()), InputError);
+  Hdf5Writer h5(tmp.path() / "ok");
   EXPECT_THROW(h5.append_row({1.0}), std::invalid_argument);
   h5.write_field("/a", ramp_field(2, 2));
   EXPECT_THROW(h5.write_field("/a/b", ramp_field(2, 2)), std::runtime_error);  // /a is a dataset

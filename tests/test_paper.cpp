@@ -12,6 +12,7 @@
 #include <string>
 
 #include "fretbem/study/ensemble.hpp"
+#include "support/temp_dir.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -38,8 +39,7 @@ class Paper : public ::testing::Test {
   static fs::path dir_;
   static int rc_;
   static void SetUpTestSuite() {
-    dir_ = fs::temp_directory_path() / ("fretbem_test_paper_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
+    dir_ = fretbem_test::process_temp_dir() / "paper";
     // The members' measured plans (fft_plan = auto) in a wisdom file of this process alone: a
     // concurrent test measuring another size could extend the shared one between the ensemble
     // and a rerun, and FFTW may then re-choose shared sub-plans (round-off, not byte-identical).
@@ -48,10 +48,6 @@ class Paper : public ::testing::Test {
                             " --hurst 0.3,0.7 --seeds " + std::to_string(kSeeds) +
                             " --jobs 2 --quiet --set " + kGrid + " --out " + dir_.string();
     rc_ = std::system(cmd.c_str());
-  }
-  static void TearDownTestSuite() {
-    fs::remove_all(dir_);
-    fs::remove(dir_.string() + ".wisdom"), fs::remove(dir_.string() + ".wisdom.lock");
   }
   static MemberCurve curve(double H, int seed) {
     return read_member_curve(dir_ / member_dir(H, seed) / "timeseries.csv", kMu);

@@ -16,6 +16,7 @@
 #include "fretbem/run/run.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/wear/integrator.hpp"
+#include "support/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace fretbem;
@@ -23,10 +24,7 @@ using namespace fretbem;
 namespace {
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("fretbem_run_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(d);
-  return d;
+  return fretbem_test::process_temp_dir().vacant(name);
 }
 
 // The CSV text of `p` with column `name` blanked in every row.

@@ -11,28 +11,15 @@
 #include "fretbem/history/model.hpp"
 #include "fretbem/scenario/ignored_keys.hpp"
 #include "fretbem/scenario/scenario.hpp"
+#include "support/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using fretbem::InputError;
 using fretbem::parse_scenario;
 using fretbem::Scenario;
+using fretbem_test::TempDir;
 
 namespace {
-
-/// A fresh folder under the system temp dir, removed afterwards.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::random_device rd;
-    path = fs::temp_directory_path() /
-           ("fretbem_test_scenario_" + std::to_string(rd()) + std::to_string(rd()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-};
 
 void write_file(const fs::path& p, const std::string& text) {
   fs::create_directories(p.parent_path());
@@ -343,8 +330,8 @@ TEST(Scenario, ImpossibleForceAmplitudeIsExplained) {
 }
 
 TEST(Scenario, RelativePathsResolveAgainstTheScenarioFolder) {
-  TempDir tmp;
-  const fs::path dir = tmp.path / "cases";
+  const TempDir tmp("scenario");
+  const fs::path dir = tmp.path() / "cases";
   write_file(dir / "maps" / "z.txt", "0 1\n2 3\n");
   write_file(dir / "path.csv", "time,Fz,Fx\n0,1,0\n1,1,0.5\n");
   write_file(dir / "rough.ini", R"([material]

@@ -22,6 +22,7 @@
 #include "fretbem/surface/surface.hpp"
 #include "fretbem/wear/integrator.hpp"
 #include "support/hertz.hpp"
+#include "support/temp_dir.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -225,8 +226,8 @@ steps_per_cycle = 4
 [solver]
 stiffness = false
 )");
-  sc.output.dir = fs::temp_directory_path() / "fretbem_failed_solve";
-  fs::remove_all(sc.output.dir);
+  const fretbem_test::TempDir tmp("failed_solve");
+  sc.output.dir = tmp / "run";
   auto m = build_model(sc);
   m->tangential = std::make_unique<NeverConverges>();
   Stepper st(*m);
@@ -249,7 +250,6 @@ stiffness = false
       EXPECT_GT(H5Lexists(f, name, H5P_DEFAULT), 0) << name;
     H5Fclose(f);
   }
-  fs::remove_all(sc.output.dir);
 }
 
 }  // namespace
@@ -260,8 +260,8 @@ stiffness = false
 // (residual +10 % per iteration). The slip-node step carries its own force correction, so
 // every row must converge with the projected method alone, at the asked force.
 TEST(SolverRobustness, FewStickNodesUnderForceControlWithCerruti) {
-  const fs::path dir = fs::temp_directory_path() / "fretbem_case77";
-  fs::create_directories(dir);
+  const fretbem_test::TempDir tmp("case77");
+  const fs::path& dir = tmp.path();
   std::ofstream(dir / "table.csv") << "time,Fz,Fx\n0,250.039,0\n1,258.64,35.1032\n"
                                       "2,265.355,70.645\n3,269.925,104.327\n4,272.175,133.89\n"
                                       "5,272.017,157.347\n6,269.459,173.19\n7,264.598,180.541\n"
@@ -301,5 +301,4 @@ coupling = cerruti
   ASSERT_EQ(obs.rows.size(), 9u);
   EXPECT_NEAR(obs.rows[7].Fx, 180.541, 1e-8 * 0.848509 * 264.598);
   EXPECT_NEAR(obs.rows[7].Fy, 0.0, 1e-8 * 0.848509 * 264.598);
-  fs::remove_all(dir);
 }

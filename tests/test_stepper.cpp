@@ -16,6 +16,7 @@
 #include "fretbem/io/checkpoint.hpp"
 #include "support/child_process.hpp"
 #include "support/hertz.hpp"
+#include "support/temp_dir.hpp"
 #include "support/varying_normal_table.hpp"
 
 using namespace fretbem;
@@ -179,8 +180,7 @@ TEST(Paths, DirectionAngleRotatesTheResponse) {
 // A table with a varying normal force and a two-dimensional tangential path (full 2-D
 // solver) runs, respects |tau| <= mu p and hits every row.
 TEST(Paths, TableWithVaryingNormalLoadAndTwoDimensionalPath) {
-  const fs::path table =
-      fs::temp_directory_path() / ("fretbem_test_table_" + std::to_string(::getpid()) + ".csv");
+  const fs::path table = fretbem_test::process_temp_dir() / "table.csv";
   std::ofstream(table) << "time,Fz,Fx,Fy\n0,0.015,0,0\n1,0.02,0.003,0\n2,0.02,0.003,0.003\n"
                           "3,0.012,-0.002,0.001\n4,0.012,0,0\n";
   const Recorder r = run(sphere_scenario(48, "path = table\ntable = " + table.string()));
@@ -231,11 +231,7 @@ void expect_same_run(const fs::path& a, const fs::path& b) {
 }
 
 fs::path scenario_file(const std::string& name, const std::string& text) {
-  // Per process: worktrees and parallel ctest runs on one machine must not share a directory.
-  const fs::path dir =
-      fs::temp_directory_path() / ("fretbem_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = fretbem_test::process_temp_dir().fresh(name);
   std::ofstream(dir / "s.ini") << text;
   return dir;
 }
@@ -262,8 +258,7 @@ TEST(Resume, StopAndResumeMatchesUninterruptedRun) {
 // start, and a stepper restored after step 6 continues with the uninterrupted run's rows,
 // dissipation included (Coulomb work sum g |s|, which takes the bound of the last step).
 TEST(Resume, RestoredStepperContinuesWithTheSameDissipation) {
-  const fs::path table =
-      fs::temp_directory_path() / ("fretbem_kinetic_" + std::to_string(getpid()));
+  const fs::path table = fretbem_test::process_temp_dir() / "kinetic";
   fretbem_test::write_varying_normal_table(table);
   const std::string text =
       "[material]\nE = 210e9\nnu = 0.3\nmu = 0.5\n[grid]\nn = 32\n"

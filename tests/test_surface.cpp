@@ -15,6 +15,7 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/surface/surface.hpp"
+#include "support/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace fretbem;
@@ -258,13 +259,10 @@ TEST(Sphere, Values) {
 class HeightMapFiles : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("fretbem_test_surface_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
     z_.resize(5, 3);  // nx = 5, ny = 3: a transpose would show
     for (int j = 0; j < 3; ++j)
       for (int i = 0; i < 5; ++i) z_(i, j) = 1e-6 * (i + 10 * j) + 1.0 / 3.0 * 1e-9;
   }
-  void TearDown() override { fs::remove_all(dir_); }
   fs::path file(const std::string& name) const { return dir_ / name; }
 
   void write_text(const fs::path& f, const std::string& s) const { std::ofstream(f) << s; }
@@ -335,7 +333,8 @@ class HeightMapFiles : public ::testing::Test {
     return "";
   }
 
-  fs::path dir_;
+  const fretbem_test::TempDir tmp_{"surface"};
+  const fs::path dir_ = tmp_.path();
   Field z_;
 };
 

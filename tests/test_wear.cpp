@@ -15,6 +15,7 @@
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/wear/integrator.hpp"
+#include "support/temp_dir.hpp"
 
 using namespace fretbem;
 
@@ -127,8 +128,8 @@ TEST(WearBookkeeping, EnergyVolumeIsAlphaTimesDissipation) {
 // in Archard against the trapezoid in the dissipation put each cycle's worn volume 1.7-2.1e-4
 // below (k / mu) x its energy (fretting_wear.ini, n = 128, k = 2e-12).
 TEST(WearBookkeeping, BothLawsIntegrateTheDissipationsBound) {
-  const std::filesystem::path table =
-      std::filesystem::temp_directory_path() / "fretbem_wear_quadrature.csv";
+  const fretbem_test::TempDir tmp("wear_quadrature");
+  const std::filesystem::path table = tmp / "table.csv";
   std::ofstream(table) << "time,Fz,Fx\n0,10,0\n1,12,2.5\n2,7,-1.5\n3,11,2\n4,6,-1.2\n5,10,0\n"
                           "6,12,2.5\n7,7,-1.5\n";
   for (const char* law : {"archard", "energy"}) {
@@ -155,7 +156,6 @@ TEST(WearBookkeeping, BothLawsIntegrateTheDissipationsBound) {
     EXPECT_LT(worst_step, 1e-12) << law;
     EXPECT_LT(worst_node, 1e-12) << law;
   }
-  std::filesystem::remove(table);
   // Cycle mode: each cycle's worn volume against its energy.
   auto m = model_of(partial_slip(32, 2e-12, 20, "cycle"));
   Stepper st(*m);

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "support/child_process.hpp"
+#include "support/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 
@@ -41,10 +42,7 @@ int sh(const std::string& args) {
 }
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("fretbem_wearout_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(d);
-  return d;
+  return fretbem_test::process_temp_dir().vacant(name);
 }
 
 struct Csv {

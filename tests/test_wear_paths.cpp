@@ -13,6 +13,7 @@
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/wear/integrator.hpp"
+#include "support/temp_dir.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -26,8 +27,7 @@ std::string sphere(int n, const std::string& load, const std::string& wear) {
 }
 
 fs::path table_file(const std::string& name, const std::string& text) {
-  const fs::path f = fs::temp_directory_path() /
-                     ("fretbem_wear_path_" + name + "_" + std::to_string(getpid()) + ".csv");
+  const fs::path f = fretbem_test::process_temp_dir() / (name + ".csv");
   std::ofstream(f) << text;
   return f;
 }

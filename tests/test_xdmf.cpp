@@ -20,6 +20,7 @@
 
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/scenario/scenario.hpp"
+#include "support/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace fretbem;
@@ -32,9 +33,7 @@ const std::vector<std::string> kSets = {"grid.n=16", "load.cycles=1", "load.step
                                         "output.fields_every=4"};
 
 fs::path run_small(const std::string& tag, const std::vector<std::string>& sets = kSets) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("fretbem_xdmf_" + tag + std::to_string(getpid()));
-  fs::remove_all(dir);
+  const fs::path dir = fretbem_test::process_temp_dir().vacant(tag);
   std::string cmd = std::string(FRETBEM_BINARY) + " run " + kScenario.string() + " --quiet";
   for (const auto& s : sets) cmd += " --set " + s;
   cmd += " --out " + dir.string() + " > /dev/null 2>&1";
@@ -107,9 +106,7 @@ TEST(Xdmf, ReadBackByXdmf3ShowsEverySavedStepOnTheGrid) {
 }
 
 TEST(Xdmf, ResumedRunDescribesTheStepsOfBothParts) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("fretbem_xdmf_resume" + std::to_string(getpid()));
-  fs::remove_all(dir);
+  const fs::path dir = fretbem_test::process_temp_dir().vacant("resume");
   std::string cmd = std::string(FRETBEM_BINARY) + " run " + kScenario.string() + " --quiet";
   for (const auto& s : kSets) cmd += " --set " + s;
   ASSERT_EQ(std::system((cmd + " --out " + dir.string() + " --stop-after 6 > /dev/null").c_str()),

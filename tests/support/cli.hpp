@@ -10,6 +10,8 @@
 #include <sstream>
 #include <string>
 
+#include "temp_dir.hpp"
+
 namespace fretbem_test {
 
 struct CliResult {
@@ -19,7 +21,7 @@ struct CliResult {
 
 /// One folder per test process and tag (ctest runs a file's cases in parallel processes).
 inline std::filesystem::path process_dir(const std::string& tag) {
-  const auto d = std::filesystem::temp_directory_path() / (tag + "_" + std::to_string(getpid()));
+  const auto d = process_temp_dir() / tag;
   std::filesystem::create_directories(d);
   return d;
 }
