@@ -9,6 +9,7 @@
 #include <fstream>
 #include <string>
 
+#include "fretbem/elastic/closed_forms.hpp"
 #include "support/cli.hpp"
 
 namespace fs = std::filesystem;
@@ -17,7 +18,7 @@ namespace {
 
 using Result = fretbem_test::CliResult;
 
-Result fretbem(const std::string& args) {
+Result cli(const std::string& args) {
   return fretbem_test::run_fretbem(args, "fretbem_cli_inputs_test");
 }
 
@@ -63,8 +64,9 @@ Hertz mindlin_sphere() {
   const double E_star = E / (1 - nu * nu), G = E / (2 * (1 + nu));
   const double G_star = 4 * G / (2 - nu);
   Hertz h;
-  h.a = std::cbrt(3 * F * R / (4 * E_star));
-  h.ustar = mu * (h.a * h.a / R) * E_star / G_star;
+  h.a = fretbem::closed_forms::hertz_contact_radius(F, R, E_star);
+  h.ustar = fretbem::closed_forms::full_sliding_shift(
+      mu, fretbem::closed_forms::hertz_approach(h.a, R), E_star, G_star);
   return h;
 }
 
@@ -87,10 +89,9 @@ TEST(CliInputs, KeysThatChangeNothingAreWarnedByCheckAndRun) {
       " --set friction.scale=1 --set surface.hurst=0.5 --set surface.seed=3"
       " --set load.direction=30 --set output.fields=none --set output.fields_every=5";
   const fs::path out = scratch("ignored");
-  const Result check = fretbem("check " + scenario("hertz.ini") + kHertz + sets +
-                               " --no-estimate --out " + scratch("ignored_check").string());
-  const Result run =
-      fretbem("run " + scenario("hertz.ini") + kHertz + sets + " --out " + out.string());
+  const Result check = cli("check " + scenario("hertz.ini") + kHertz + sets +
+                           " --no-estimate --out " + scratch("ignored_check").string());
+  const Result run = cli("run " + scenario("hertz.ini") + kHertz + sets + " --out " + out.string());
   ASSERT_EQ(check.status, 0) << check.err;
   ASSERT_EQ(run.status, 0) << run.err;
   for (const auto& key : keys)
@@ -99,8 +100,8 @@ TEST(CliInputs, KeysThatChangeNothingAreWarnedByCheckAndRun) {
   EXPECT_NE(check.err.find("read only in a wear run (here wear.law = none)"), std::string::npos);
   EXPECT_NE(check.err.find("read only with surface.type = rough (here sphere)"), std::string::npos);
   // A scenario whose keys all take effect draws no warning.
-  EXPECT_EQ(fretbem("check " + scenario("hertz.ini") + kHertz + " --no-estimate --out " +
-                    scratch("clean").string())
+  EXPECT_EQ(cli("check " + scenario("hertz.ini") + kHertz + " --no-estimate --out " +
+                scratch("clean").string())
                 .err,
             "");
 }
@@ -110,9 +111,9 @@ TEST(CliInputs, KeysThatChangeNothingAreWarnedByCheckAndRun) {
 TEST(CliInputs, CheckRefusesRunsRefusalWithTheSameLine) {
   const std::string mm =
       scenario("mindlin_cycle.ini") + " --set grid.n=32 --set surface.radius=10 --out ";
-  const Result run = fretbem("run " + mm + scratch("mm_run").string() + " --quiet");
-  const Result check = fretbem("check " + mm + scratch("mm_check").string());
-  const Result quick = fretbem("check " + mm + scratch("mm_quick").string() + " --no-estimate");
+  const Result run = cli("run " + mm + scratch("mm_run").string() + " --quiet");
+  const Result check = cli("check " + mm + scratch("mm_check").string());
+  const Result quick = cli("check " + mm + scratch("mm_quick").string() + " --no-estimate");
   EXPECT_EQ(run.status, 2);
   EXPECT_NE(run.err.find("grid.allow_edge_contact"), std::string::npos) << run.err;
   for (const Result* r : {&check, &quick}) {
@@ -125,24 +126,24 @@ TEST(CliInputs, CheckRefusesRunsRefusalWithTheSameLine) {
 TEST(CliInputs, CheckRefusesAnOutputFolderRunRefuses) {
   const fs::path out = scratch("taken");
   const std::string hertz = scenario("hertz.ini") + kHertz + " --out " + out.string();
-  ASSERT_EQ(fretbem("run " + hertz).status, 0);
-  const Result run = fretbem("run " + hertz);
-  const Result check = fretbem("check " + hertz + " --no-estimate");
+  ASSERT_EQ(cli("run " + hertz).status, 0);
+  const Result run = cli("run " + hertz);
+  const Result check = cli("check " + hertz + " --no-estimate");
   EXPECT_EQ(run.status, 2);
   EXPECT_EQ(check.status, 2);
   EXPECT_EQ(check.err, run.err);
-  EXPECT_EQ(fretbem("check " + hertz + " --no-estimate --overwrite").status, 0);
+  EXPECT_EQ(cli("check " + hertz + " --no-estimate --overwrite").status, 0);
 }
 
 // One U*: what check prints and what the refusal of a shift past 1e6 U* quotes, both Mindlin's
 // mu delta E*/G* at the Hertz approach (not the sphere's height range over the domain).
 TEST(CliInputs, CheckAndTheShiftRefusalQuoteOneFullSlidingShift) {
   const Hertz h = mindlin_sphere();
-  const Result check = fretbem("check " + displacement_sine(1e-6) + " --no-estimate");
+  const Result check = cli("check " + displacement_sine(1e-6) + " --no-estimate");
   ASSERT_EQ(check.status, 0) << check.err;
   const double printed = number_after(check.out, "U* = mu delta E*/G* = ");
   EXPECT_NEAR(printed, h.ustar, 1e-3 * h.ustar) << check.out;  // printed to 4 digits
-  const Result refused = fretbem("check " + displacement_sine(10.0) + " --no-estimate");
+  const Result refused = cli("check " + displacement_sine(10.0) + " --no-estimate");
   ASSERT_EQ(refused.status, 2);
   const double quoted = number_after(refused.err, "U* = mu delta E*/G* = ");
   EXPECT_NEAR(quoted, h.ustar, 1e-12 * h.ustar) << refused.err;
@@ -152,20 +153,20 @@ TEST(CliInputs, CheckAndTheShiftRefusalQuoteOneFullSlidingShift) {
 // unless load.allow_large_shift = true, one past a quarter of it warned about.
 TEST(CliInputs, ShiftsAreBoundedByTheContactRadius) {
   const Hertz h = mindlin_sphere();
-  const Result small = fretbem("check " + displacement_sine(0.2 * h.a) + " --no-estimate");
+  const Result small = cli("check " + displacement_sine(0.2 * h.a) + " --no-estimate");
   EXPECT_EQ(small.status, 0);
   EXPECT_EQ(small.err.find("contact radius"), std::string::npos) << small.err;
-  const Result half = fretbem("check " + displacement_sine(0.5 * h.a) + " --no-estimate");
+  const Result half = cli("check " + displacement_sine(0.5 * h.a) + " --no-estimate");
   EXPECT_EQ(half.status, 0);
   EXPECT_EQ(count(half.err, "warning: load.displacement_amplitude"), 1) << half.err;
-  const Result far = fretbem("check " + displacement_sine(1.5 * h.a) + " --no-estimate");
+  const Result far = cli("check " + displacement_sine(1.5 * h.a) + " --no-estimate");
   EXPECT_EQ(far.status, 2);
   EXPECT_NE(far.err.find("load.allow_large_shift"), std::string::npos) << far.err;
-  const Result run = fretbem("run " + displacement_sine(1.5 * h.a) + " --quiet");
+  const Result run = cli("run " + displacement_sine(1.5 * h.a) + " --quiet");
   EXPECT_EQ(run.status, 2);
   EXPECT_EQ(run.err, far.err);
-  const Result allowed = fretbem("check " + displacement_sine(1.5 * h.a) +
-                                 " --set load.allow_large_shift=true --no-estimate");
+  const Result allowed = cli("check " + displacement_sine(1.5 * h.a) +
+                             " --set load.allow_large_shift=true --no-estimate");
   EXPECT_EQ(allowed.status, 0) << allowed.err;
   EXPECT_EQ(count(allowed.err, "warning: load.displacement_amplitude"), 1) << allowed.err;
 }
@@ -177,10 +178,10 @@ TEST(CliInputs, SurfaceRefusesHeightsCheckAndRunRefuse) {
       (fs::path(FRETBEM_SOURCE_DIR) / "tests/bad_inputs/surfaces/driver.ini").string();
   const fs::path out = scratch("huge") / "copy.npy";
   fs::create_directories(out.parent_path());
-  const Result surface = fretbem("surface " + driver + " --set surface.file=" + map.string() +
-                                 " --out " + out.string());
-  const Result check = fretbem("check " + driver + " --set surface.file=" + map.string() +
-                               " --out " + scratch("huge_check").string());
+  const Result surface =
+      cli("surface " + driver + " --set surface.file=" + map.string() + " --out " + out.string());
+  const Result check = cli("check " + driver + " --set surface.file=" + map.string() + " --out " +
+                           scratch("huge_check").string());
   EXPECT_EQ(surface.status, 2);
   EXPECT_EQ(surface.err, check.err);
   EXPECT_NE(surface.err.find("1e+150"), std::string::npos) << surface.err;
@@ -197,7 +198,7 @@ TEST(CliInputs, CheckDescribesALoadedHeightMap) {
       << "0 0 0 0\n0 2e-7 0 0\n0 0 0 0\n0 0 0 0\n";  // one bump, rms sqrt(15)/16 x 2e-7
   const std::string base = "check " + driver + " --no-estimate --set surface.file=" + map.string() +
                            " --out " + scratch("map_check").string();
-  const Result plain = fretbem(base);
+  const Result plain = cli(base);
   ASSERT_EQ(plain.status, 0) << plain.err;
   EXPECT_NE(plain.out.find("4 x 4 (x by y), heights 0 .. 2e-07 m, rms 4.841e-08 m"),
             std::string::npos)
@@ -205,7 +206,7 @@ TEST(CliInputs, CheckDescribesALoadedHeightMap) {
   EXPECT_NE(plain.err.find("carries no spacing and surface.spacing is not given"),
             std::string::npos)
       << plain.err;
-  const Result stated = fretbem(base + " --set surface.spacing=7e-5");
+  const Result stated = cli(base + " --set surface.spacing=7e-5");
   ASSERT_EQ(stated.status, 0) << stated.err;
   EXPECT_NE(stated.out.find("(surface.spacing, checked against grid.length / n)"),
             std::string::npos)
@@ -222,7 +223,7 @@ TEST(CliInputs, SweepListsRefuseTrailingAndInnerEmptyItems) {
     const fs::path study = dir / "study.ini";
     std::ofstream(study) << "[study]\nscenario = " << scenario("mindlin_cycle.ini")
                          << "\n[vary]\nload.amplitude = " << list << "\n";
-    const Result r = fretbem("sweep " + study.string() + " --list");
+    const Result r = cli("sweep " + study.string() + " --list");
     EXPECT_EQ(r.status, 2) << list;
     EXPECT_NE(r.err.find(study.string()), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("load.amplitude"), std::string::npos) << r.err;

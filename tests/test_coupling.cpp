@@ -82,7 +82,7 @@ std::string sphere(int n, const std::string& material, const std::string& load,
 // A rigid sphere on a half-space with E = 1, nu = 0.3 (beta = 0.2857) at a = 0.25.
 const std::string kRigidOnSoft = "E = 1\nnu = 0.3\nmu = 0.5";
 double hertz_force(double Estar, double a) {
-  return 4.0 / 3.0 * Estar * a * a * a;  // R = 1
+  return closed_forms::hertz_force(a, 1.0, Estar);  // R = 1
 }
 
 }  // namespace

@@ -30,13 +30,6 @@ std::vector<StepRecord> run(const std::string& text) {
   return fretbem_test::run_steps(text, "friction");
 }
 
-// u* = mu delta E*/G*, delta = a^2 / R: the full-sliding shift for this mu.
-double full_sliding_shift(double mu) {
-  Material m;
-  m.body1 = {1.0, 0.3};
-  return mu * 0.0625 * m.E_star() / m.G_star();
-}
-
 fs::path shift_table(const std::vector<double>& ux) {
   const fs::path f = fretbem_test::process_temp_dir() / "shift.csv";
   std::ofstream out(f);
@@ -58,10 +51,9 @@ fs::path shift_table(const std::vector<double>& ux) {
 // within a cell; one ramp step and eight give the same answer (no error of the step).
 TEST(FrictionLaw, StaticKineticRampConvergesToCattaneoWithMuKinetic) {
   const double mu_k = 0.35, q = 0.9, a = 0.25;
-  Material m;
-  m.body1 = {1.0, 0.3};
-  const double c = a * std::cbrt(1 - q);
-  const double u_closed = mu_k * m.E_star() / m.G_star() * (a * a - c * c);
+  const double c = a * closed_forms::cattaneo_stick_ratio(q);
+  const double u_closed =
+      fretbem_test::unit_full_sliding_shift(mu_k) * closed_forms::cattaneo_shift_ratio(q);
   const std::string friction = "law = static_kinetic\nmu_kinetic = 0.35\n";
   auto ramp = [&](int n, int steps) {
     const std::string load =
@@ -89,7 +81,7 @@ TEST(FrictionLaw, StaticKineticRampConvergesToCattaneoWithMuKinetic) {
 // after which its rows equal those of constant mu = mu_final (a uniform mu change reproduces
 // the constant-mu solution with the new mu), reversals included.
 TEST(FrictionLaw, UniformChangeReproducesConstantMu) {
-  const double u = full_sliding_shift(0.6);
+  const double u = fretbem_test::unit_full_sliding_shift(0.6);
   const fs::path table = shift_table({0, 3 * u, 6 * u, 4 * u, 2 * u, 0, 3 * u});
   // Gross sliding to 6 u*, past the contact radius: the friction laws, not the small-slip
   // geometry, are under test.

@@ -53,7 +53,7 @@ fs::path varying_normal_table(int rows_per_period, double P, double mu, bool pre
 // at 16 ... 128 rows: first order). n = 48 (a = 12 cells): the comparison is one of time
 // discretisation on one grid, so the spatial resolution does not enter; measured orders 2.0-2.1.
 TEST(Dissipation, SecondOrderUnderVaryingNormalLoad) {
-  const double P = 4.0 / 3.0 / (1 - 0.09) * std::pow(0.25, 3), mu = 0.5;
+  const double P = fretbem_test::unit_hertz_force(), mu = 0.5;
   std::vector<double> diff;
   for (int rows : {16, 32, 64, 128}) {
     const fs::path table = varying_normal_table(rows, P, mu);
@@ -78,7 +78,7 @@ TEST(Dissipation, SecondOrderUnderVaryingNormalLoad) {
 // different locked-in tractions in the permanent stick zone. Stick areas classified by the
 // slip of the step agree; the part on the bound without slipping is what differs.
 TEST(StickArea, DependsOnTheStateNotOnTheHistory) {
-  const double P = 4.0 / 3.0 / (1 - 0.09) * std::pow(0.25, 3), mu = 0.5;
+  const double P = fretbem_test::unit_hertz_force(), mu = 0.5;
   const int rows = 32;
   std::vector<std::vector<StepRecord>> runs;
   for (bool prelude : {false, true}) {

@@ -1,6 +1,6 @@
-// Validation rung 2 (docs/architecture.md, "Validation ladder"): the Polonsky–Keer normal solver against closed forms
-// (Hertz; the rigid flat square punch through its electrostatic analogue), its reporting and
-// error contract, and convergence on a rough surface.
+// Validation rung 2 (docs/architecture.md, "Validation ladder"): the Polonsky–Keer normal solver
+// against closed forms (Hertz; the rigid flat square punch through its electrostatic analogue), its
+// reporting and error contract, and convergence on a rough surface.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,11 +8,12 @@
 #include <string>
 #include <vector>
 
+#include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/core/errors.hpp"
+#include "fretbem/elastic/closed_forms.hpp"
 #include "fretbem/elastic/grid.hpp"
 #include "fretbem/elastic/half_space.hpp"
 #include "fretbem/elastic/material.hpp"
-#include "fretbem/contact/normal_solver.hpp"
 #include "fretbem/surface/surface.hpp"
 
 namespace fretbem {
@@ -30,8 +31,8 @@ Material single_body(double E, double nu) {
 // a^2 = R delta, F = 4 E* a^3 / (3 R), p(r) = p0 sqrt(1 - r^2/a^2), p0 = 2 E* a / (pi R).
 struct Hertz {
   double E_star, R, a;
-  double delta() const { return a * a / R; }
-  double force() const { return 4 * E_star * a * a * a / (3 * R); }
+  double delta() const { return closed_forms::hertz_approach(a, R); }
+  double force() const { return closed_forms::hertz_force(a, R, E_star); }
   double p0() const { return 2 * E_star * a / (pi * R); }
   double pressure(double r) const { return r < a ? p0() * std::sqrt(1 - r * r / (a * a)) : 0.0; }
   double area() const { return pi * a * a; }

@@ -63,9 +63,7 @@ std::vector<std::string> read_lines(const fs::path& f) {
 // The unit sphere's [load] body of a displacement path to `ratio` times the full-sliding shift
 // u* = mu delta E*/G* (delta = a^2/R = 1/16, mu = 0.5; Ciavarella–Jäger), then `rest`.
 std::string displacement_load(const std::string& path, double ratio, const std::string& rest) {
-  Material m;
-  m.body1 = {1.0, 0.3};
-  const double ustar = 0.5 * 0.0625 * m.E_star() / m.G_star();
+  const double ustar = fretbem_test::unit_full_sliding_shift(0.5);
   std::ostringstream load;
   load.precision(17);
   load << "path = " << path
@@ -117,7 +115,7 @@ TEST(SlipRing, RunMatchesTheMindlinRingAndCheckPredictsIt) {
     }
   } narrowest;
   stepper.run({&narrowest});
-  const double want = 32 * (1 - std::cbrt(0.7));
+  const double want = 32 * (1 - closed_forms::cattaneo_stick_ratio(0.3));
   std::printf("ring at the turning points %.3f cells, Mindlin %.3f\n", narrowest.ring, want);
   EXPECT_NEAR(narrowest.ring, want, 1.0);
   const auto p = predict_sphere(sc);
@@ -140,7 +138,8 @@ TEST(SlipRing, UnderResolvedRingWarnsInCheckAndRun) {
   const Result c = cli("check " + ini.string());
   EXPECT_EQ(c.status, 0);
   EXPECT_NE(c.out.find("warning: the slip ring spans under 2 cells"), std::string::npos) << c.out;
-  const int suggested = int(std::ceil(2.0 / (0.25 * (1 - std::cbrt(0.95)))));
+  const int suggested =
+      int(std::ceil(2.0 / (0.25 * (1 - closed_forms::cattaneo_stick_ratio(0.05)))));
   EXPECT_NE(c.out.find("grid.n >= " + std::to_string(suggested)), std::string::npos) << c.out;
   const fs::path out = work_dir() / "thin_run";
   fs::remove_all(out);
@@ -251,7 +250,7 @@ TEST(Ramp, DisplacementRampBelowSlidingIsReportedAndWritesNoCycleRows) {
 // (exit 2, one line naming the step and the key), and check with the same line, found from
 // the table's largest F_z; on a periodic grid the same history runs without a warning.
 TEST(EdgeLoad, ContactGrowingPastTheGridDuringTheHistory) {
-  const double F0 = 4.0 / 3.0 / (1 - 0.09) * std::pow(0.25, 3);
+  const double F0 = fretbem_test::unit_hertz_force();
   std::ofstream(work_dir() / "grow.csv") << std::setprecision(17) << "time,Fz,Fx\n0," << F0
                                          << ",0\n1," << 2 * F0 << ",0\n2," << 27 * F0 << ",0\n";
   const std::string text =

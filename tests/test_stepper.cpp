@@ -30,7 +30,7 @@ std::string sphere_scenario(int n, const std::string& load, const std::string& e
 }
 
 double hertz_force(double E_star) {
-  return 4.0 / 3.0 * E_star * std::pow(0.25, 3);
+  return closed_forms::hertz_force(0.25, 1.0, E_star);
 }
 
 struct Recorder : Observer {
@@ -59,7 +59,7 @@ using fretbem_test::CycleEnergy;
 // energy per cycle W = (24/5) mu P u* [1 - (1-q)^(5/3) - (5q/6)(1 + (1-q)^(2/3))].
 struct Mindlin {
   double muP, ustar;
-  double f(double Q) const { return ustar * (1 - std::pow(1 - Q / muP, 2.0 / 3.0)); }
+  double f(double Q) const { return ustar * closed_forms::cattaneo_shift_ratio(Q / muP); }
   double unload(double Qa, double Q) const { return f(Qa) - 2 * f((Qa - Q) / 2); }
   double reload(double Qa, double Q) const { return -f(Qa) + 2 * f((Qa + Q) / 2); }
   double energy(double q) const {
@@ -70,8 +70,9 @@ struct Mindlin {
 Mindlin mindlin() {
   Material m;
   m.body1 = {1.0, 0.3};
-  const double delta = 0.25 * 0.25;  // a^2 / R
-  return {0.5 * hertz_force(m.E_star()), 0.5 * delta * m.E_star() / m.G_star()};
+  const double delta = closed_forms::hertz_approach(0.25, 1.0);
+  return {0.5 * hertz_force(m.E_star()),
+          closed_forms::full_sliding_shift(0.5, delta, m.E_star(), m.G_star())};
 }
 
 std::string sine_load(double q, int cycles, int spc) {

@@ -89,7 +89,7 @@ TEST(EnergyPerCycleStudy, MindlinDeresiewiczBelowAndGrossSlipLinePastFullSliding
     ASSERT_EQ(rows.size(), 2u);
     for (const auto& row : rows) {
       const double q = std::stod(row.at("load.amplitude"));
-      const double w = s.a() * (1 - std::cbrt(1 - q)) / h;
+      const double w = s.a() * (1 - fretbem::closed_forms::cattaneo_stick_ratio(q)) / h;
       const double W = std::stod(row.at("dissipated_energy")), Wmd = s.md_energy(q);
       EXPECT_NEAR(W / Wmd, 1.0, std::pow(0.5 / w, 2)) << "q = " << q << ", ring " << w << " cells";
       EXPECT_NEAR(std::stod(row.at("ring_cells_predicted")), w, 0.01);
@@ -126,7 +126,8 @@ TEST(EnergyPerCycleStudy, PerMemberGridRefinesUnderResolvedSlipRings) {
       d, "set = grid.n=64\nmax_grid_n = 256\n[vary]\nload.amplitude = 0.02, 0.15, 0.5\n"));
   ASSERT_EQ(spec.grids.size(), 3u);
   auto needed = [&](double q) {
-    const int n = int(std::ceil(2 * s.L / (s.a() * (1 - std::cbrt(1 - q)))));
+    const int n =
+        int(std::ceil(2 * s.L / (s.a() * (1 - fretbem::closed_forms::cattaneo_stick_ratio(q)))));
     return (n + 7) / 8 * 8;
   };
   // q = 0.02: needs ~n = 1200 > 256: runs at 256 and says so.

@@ -46,7 +46,10 @@ struct Hertz {
   }
   double ratio() const { return mat.E_star() / mat.G_star(); }
   // Mindlin's tangential shift for q = Fx/(mu Fz): U = mu d (E*/G*) (1 - (1-q)^(2/3)) (eq. 3).
-  double mindlin_shift(double q) const { return mu * d * ratio() * (1 - std::pow(1 - q, 2.0 / 3)); }
+  double mindlin_shift(double q) const {
+    return closed_forms::full_sliding_shift(mu, d, mat.E_star(), mat.G_star()) *
+           closed_forms::cattaneo_shift_ratio(q);
+  }
 };
 
 // Runs one increment and returns the result; tau/u carry the state.
@@ -109,7 +112,7 @@ TEST_P(CattaneoPreconditioned, StickAreaShiftAndStiffness) {
       StateField st = StateField::Zero(h.n, h.n);
       for (Eigen::Index i = 0; i < st.size(); ++i)
         st(i) = h.bound(i) > 0 ? (mag(i) < h.bound(i) * (1 - 1e-10) ? 1 : 2) : 0;
-      const double c = h.a * std::cbrt(1 - q);
+      const double c = h.a * closed_forms::cattaneo_stick_ratio(q);
       const double kx = stiff.solve(st).kx;
       worst_k = std::max(worst_k, std::abs(kx / (2 * h.mat.G_star() * c) - 1));
       EXPECT_NEAR(kx / (2 * h.mat.G_star() * c), 1.0, 0.015) << "q = " << q;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "fretbem/core/format.hpp"
+#include "fretbem/elastic/closed_forms.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/scenario/scenario.hpp"
@@ -70,8 +71,7 @@ WearRun run(const std::string& text) {
 
 // Hertz contact radius a = (3 P R / 4 E*)^(1/3) (Johnson, Contact Mechanics, eq. 4.22).
 double hertz_a() {
-  const double Es = kE / (1 - kNu * kNu);
-  return std::cbrt(3 * kP * kR / (4 * Es));
+  return closed_forms::hertz_contact_radius(kP, kR, kE / (1 - kNu * kNu));
 }
 
 Field radius(int n) {
@@ -189,7 +189,7 @@ TEST(WearBookkeeping, NoWearLawNoWear) {
 TEST(WearPartialSlip, StickZoneUnwornAnnulusShakesDown) {
   const int n = 48;
   WearRun r = run(partial_slip(n, 2e-12, 4000, "erk"));
-  const double a = hertz_a(), c = a * std::cbrt(0.4), h = kL / n;
+  const double a = hertz_a(), c = a * closed_forms::cattaneo_stick_ratio(0.6), h = kL / n;
   const Field rr = radius(n);
   const Field stick = (rr < c - 1.5 * h).cast<double>();
   const Field annulus = (rr > c + h && rr < a - h).cast<double>();
@@ -279,7 +279,7 @@ TEST(WearIntegrators, ImplicitLongRunMatchesExplicit) {
       N, e.rep.simulated_cycles, i.rep.simulated_cycles, i.rep.newton_iterations, err);
   EXPECT_LT(err, 0.02);
   EXPECT_LT(i.rep.simulated_cycles, e.rep.simulated_cycles);
-  const double a = hertz_a(), c = a * std::cbrt(0.4), h = kL / n;
+  const double a = hertz_a(), c = a * closed_forms::cattaneo_stick_ratio(0.6), h = kL / n;
   const Field stick = (radius(n) < c - 1.5 * h).cast<double>();
   EXPECT_LT(masked_max(i.rep.worn, stick), 1e-6 * i.rep.worn.maxCoeff());
   // Shakedown (Popov, Sci. Rep. 4:3749, 2014): the annulus is unloaded, the contact is the
@@ -320,7 +320,7 @@ TEST(WearIntegrators, ToleranceIndependence) {
 TEST(WearIntegrators, CarriedTractionsNeverWearStickZone) {
   const int n = 48;
   WearRun r = run(partial_slip(n, 1e-11, 300, "cycle"));
-  const double a = hertz_a(), c = a * std::cbrt(0.4), h = kL / n;
+  const double a = hertz_a(), c = a * closed_forms::cattaneo_stick_ratio(0.6), h = kL / n;
   const Field stick = (radius(n) < c - 1.5 * h).cast<double>();
   const double wmax = r.rep.worn.maxCoeff();
   ASSERT_GT(wmax, 0.0);

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "fretbem/elastic/closed_forms.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/scenario/scenario.hpp"
@@ -61,8 +62,8 @@ void check_end_state(const Case& cs) {
   const auto t0 = std::chrono::steady_clock::now();
   const WearReport rep = integrate_wear(*model, cyc, &fin);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const double Es = kE / (1 - kNu * kNu), a = std::cbrt(3 * kP * kR / (4 * Es));
-  const double c = a * std::cbrt(1 - cs.amplitude), h = kL / cs.n;
+  const double Es = kE / (1 - kNu * kNu), a = closed_forms::hertz_contact_radius(kP, kR, Es);
+  const double c = a * closed_forms::cattaneo_stick_ratio(cs.amplitude), h = kL / cs.n;
   const double d_inf = kP / (2 * Es * c) + c * c / (3 * kR);
   // Grid bound: the discrete stick boundary lies within half a cell of c, and d_inf moves by
   // |dln d / dln c| h / (2c) for that.

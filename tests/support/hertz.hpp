@@ -36,6 +36,15 @@ inline std::string unit_sphere_ini(int n, const std::string& load, const std::st
   return s.str();
 }
 
+/// The unit sphere's full-sliding shift U* = mu delta E*/G* (m) for friction coefficient mu:
+/// delta = a^2 / R = 1/16 at the force of unit_hertz_force().
+inline double unit_full_sliding_shift(double mu) {
+  Material m;
+  m.body1 = {1.0, 0.3};
+  return closed_forms::full_sliding_shift(mu, closed_forms::hertz_approach(0.25, 1.0), m.E_star(),
+                                          m.G_star());
+}
+
 /// A steel ball: E = 210 GPa, nu = 0.3, mu = 0.5, R = 10 mm, F_z = 10 N on a 32 x 32
 /// grid of side 0.28 mm; the text ends inside [load], callers append the path and sections.
 inline const std::string kSteelSphere32 = R"([material]
@@ -60,7 +69,6 @@ struct StepRecorder : Observer {
   }
 };
 
-/// Runs a scenario to its end (outputs under the temporary folder), every step's record.
 /// Runs a scenario text to its end with one observer of type R (a test's own recorder).
 template <class R>
 R run_recorded(const std::string& text) {
