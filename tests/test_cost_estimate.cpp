@@ -99,7 +99,8 @@ TEST(CostEstimate, WearSimulatedCyclesInPredictedRange) {
     auto model = build_model(sc);
     Stepper stepper(*model);
     WearCycles cycles(*model, stepper);
-    const WearReport rep = integrate_wear(*model, cycles, nullptr);
+    Observer silent;
+    const WearReport rep = integrate_wear(*model, cycles, silent);
     EXPECT_GE(rep.simulated_cycles, e.simulated_low - 1e-9) << c.file << " " << c.sets.back();
     EXPECT_LE(rep.simulated_cycles, e.simulated_high + 1e-9) << c.file << " " << c.sets.back();
     EXPECT_LE(e.simulated_high,

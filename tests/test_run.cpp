@@ -126,7 +126,7 @@ TEST(RunLayer, OneObserverSeesAWearRunsStepsAndCycles) {
   Stepper stepper(*model);
   Events events;
   WearCycles sim(*model, stepper, {&events});
-  const WearReport rep = integrate_wear(*model, sim, &events);
+  const WearReport rep = integrate_wear(*model, sim, events);
   ASSERT_EQ(events.cycles.size(), 5u);  // N = 0..4
   EXPECT_EQ(events.checkpoints, 4);
   EXPECT_EQ(int(events.rows.size()), sim.counters().rows);

@@ -205,7 +205,8 @@ integrator = cycle
   auto m = build_model(sc);
   Stepper st(*m);
   WearCycles cycles(*m, st);  // no observers: the solves alone, no output files
-  EXPECT_NO_THROW(integrate_wear(*m, cycles, nullptr));
+  Observer silent;
+  EXPECT_NO_THROW(integrate_wear(*m, cycles, silent));
   EXPECT_EQ(fallbacks(*m), 0);
 }
 

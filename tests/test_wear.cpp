@@ -46,7 +46,7 @@ std::unique_ptr<Model> model_of(const std::string& text) {
 }
 
 // Snapshots (N, worn depth, pressure) of a run.
-struct Snapshots final : WearLog {
+struct Snapshots final : Observer {
   std::vector<double> N;
   std::vector<Field> worn, pressure;
   void snapshot(double n, const Field& w, const Field& p, bool) override {
@@ -65,7 +65,7 @@ WearRun run(const std::string& text) {
   r.model = model_of(text);
   Stepper st(*r.model);
   WearCycles cyc(*r.model, st);
-  r.rep = integrate_wear(*r.model, cyc, &r.snaps);
+  r.rep = integrate_wear(*r.model, cyc, r.snaps);
   return r;
 }
 
@@ -160,7 +160,8 @@ TEST(WearBookkeeping, BothLawsIntegrateTheDissipationsBound) {
   auto m = model_of(partial_slip(32, 2e-12, 20, "cycle"));
   Stepper st(*m);
   WearCycles cyc(*m, st);
-  const WearReport rep = integrate_wear(*m, cyc, nullptr);
+  Observer silent;
+  const WearReport rep = integrate_wear(*m, cyc, silent);
   double worst_cycle = 0.0;
   for (std::size_t i = 1; i < rep.history.size(); ++i) {
     const double dv = rep.history[i].wear_volume - rep.history[i - 1].wear_volume;
@@ -386,7 +387,7 @@ TEST(WearIntegrators, DefaultAbsoluteToleranceIsRtolTimesIndentation) {
 // erk run to N = 5e4 at n = 32 simulated 6303 cycles, over N/10). Under 50 caps, and for dirk
 // or arkode, no warning. The cap is 1 / (k s K_max) of the unworn surface's steady cycle.
 TEST(WearIntegrators, ExplicitPastStabilityCapsWarns) {
-  struct Warnings final : WearLog {
+  struct Warnings final : Observer {
     std::vector<std::string> lines;
     void warn(const std::string& line) override { lines.push_back(line); }
   };
@@ -395,7 +396,7 @@ TEST(WearIntegrators, ExplicitPastStabilityCapsWarns) {
     Stepper st(*model);
     WearCycles cyc(*model, st);
     Warnings log;
-    integrate_wear(*model, cyc, &log, nullptr, 1);  // the first step is enough
+    integrate_wear(*model, cyc, log, nullptr, 1);  // the first step is enough
     *cap = explicit_step_cap(*model, cyc.steady(0.0, Field::Zero(32, 32)).max_slip);
     return log.lines;
   };

@@ -48,7 +48,7 @@ std::string scenario(const Case& c) {
   return s;
 }
 
-struct Final final : WearLog {
+struct Final final : Observer {
   Field pressure;
   void snapshot(double, const Field&, const Field& p, bool) override { pressure = p; }
 };
@@ -60,7 +60,7 @@ void check_end_state(const Case& cs) {
   WearCycles cyc(*model, st);
   Final fin;
   const auto t0 = std::chrono::steady_clock::now();
-  const WearReport rep = integrate_wear(*model, cyc, &fin);
+  const WearReport rep = integrate_wear(*model, cyc, fin);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double Es = kE / (1 - kNu * kNu), a = closed_forms::hertz_contact_radius(kP, kR, Es);
   const double c = a * closed_forms::cattaneo_stick_ratio(cs.amplitude), h = kL / cs.n;

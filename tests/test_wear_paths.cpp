@@ -36,7 +36,8 @@ WearReport integrate(const std::string& text) {
   auto m = build_model(parse_scenario(text, "wear_path", fs::temp_directory_path()));
   Stepper st(*m);
   WearCycles cyc(*m, st);
-  return integrate_wear(*m, cyc, nullptr);
+  Observer silent;
+  return integrate_wear(*m, cyc, silent);
 }
 
 // Worn volume of one steady cycle of the unworn surface (the wear map's first evaluation).

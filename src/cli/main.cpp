@@ -15,26 +15,20 @@
 #include <vector>
 
 #include "fretbem/core/errors.hpp"
-#include "fretbem/core/format.hpp"
 #include "fretbem/core/hdf5.hpp"
 #include "fretbem/core/input_warning.hpp"
 #include "fretbem/core/resources.hpp"
 #include "fretbem/core/stop_signal.hpp"
-#include "fretbem/history/check_report.hpp"
-#include "fretbem/history/cost_estimate.hpp"
-#include "fretbem/history/edge_preflight.hpp"
 #include "fretbem/history/model.hpp"
-#include "fretbem/history/resolution.hpp"
 #include "fretbem/io/failed_solve.hpp"
-#include "fretbem/io/resume_check.hpp"
-#include "fretbem/run/run.hpp"
 #include "fretbem/parallel/communicator.hpp"
+#include "fretbem/run/check.hpp"
+#include "fretbem/run/run.hpp"
 #include "fretbem/scenario/ignored_keys.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/study/ensemble.hpp"
 #include "fretbem/study/sweep.hpp"
 #include "fretbem/surface/surface.hpp"
-#include "fretbem/wear/cost_estimate.hpp"
 
 namespace po = boost::program_options;
 using namespace fretbem;
@@ -202,42 +196,10 @@ int cmd_run(const Args& a) {
   return run_scenario(sc, run_options(a));
 }
 
-// Everything `run` refuses before its tangential solves, with run's line and exit code:
-// prepare_model (files read, memory guard, pre-flight checks), the output folder, and the
-// edge-contact refusal of the normal loading (solved only where Hertz says it may apply);
-// then the report.
 int cmd_check(const Args& a) {
-  Scenario scenario = read_scenario(a);
-  if (!a.out.empty()) set_output_dir(scenario, a.out);
-  const auto model = prepare_model(scenario);
-  const Scenario& sc = model->scenario;
-  check_output_dir(sc.output.dir, a.overwrite);
-  check_edge_contact_of_path(sc, model->path);
-  release_input_warnings();  // every refusal run makes before its first step is behind
-  if (sc.wear.law == WearLaw::none)
-    std::printf("%s: ok (%d x %d grid, %zu load steps)\n", a.scenario.c_str(), sc.grid.nx,
-                sc.grid.ny, model->path.steps.size());
-  else
-    std::printf("%s: ok (%d x %d grid, wear run of %s cycles)\n", a.scenario.c_str(), sc.grid.nx,
-                sc.grid.ny, format_count(sc.wear.cycles).c_str());
-  std::fputs(check_report(*model).c_str(), stdout);
-  // Resolution and domain predicted from Hertz for spheres (resolution.hpp).
-  if (const auto p = predict_sphere(sc, model->path))
-    for (const auto& line : describe(*p, sc)) std::printf("  %s\n", line.c_str());
-  if (!a.estimate) return 0;
-  std::fflush(stdout);  // the report stands while the calibration solves
-  // A refusal the calibration meets is one the run meets too: it ends check with exit 2.
-  try {
-    if (sc.wear.law == WearLaw::none)
-      std::fputs(describe(estimate_run_cost(sc), model->path.steps.size()).c_str(), stdout);
-    else
-      std::fputs(describe(estimate_wear_cost(sc), sc.wear).c_str(), stdout);
-  } catch (const SolverError& e) {
-    // The inputs are valid, so check's verdict stands; the failure the run will meet is said.
-    std::printf("  cost: not estimated (the calibration solve failed)\n");
-    std::fprintf(stderr, "fretbem: warning: the calibration solve failed: %s\n", e.what());
-  }
-  return 0;
+  Scenario sc = read_scenario(a);
+  if (!a.out.empty()) set_output_dir(sc, a.out);
+  return check_scenario(sc, a.scenario, {.overwrite = a.overwrite, .estimate = a.estimate});
 }
 
 // The default scale (rms height 1 mm of a 1 m domain) applies only when neither scale is set:

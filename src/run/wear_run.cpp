@@ -69,7 +69,7 @@ WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume, long max
   ResultFile h5(dir, model, rows);
   WearFiles log(model, stepper, h5, quiet, at);
   WearCycles sim(model, stepper, {&csv, &h5});
-  WearReport rep = integrate_wear(model, sim, &log, at, max_steps);
+  WearReport rep = integrate_wear(model, sim, log, at, max_steps);
   log.done();
   if (rep.stopped) {
     rep.exit_code = report_stop("N = " + simulated_count(rep.N) + " of " +

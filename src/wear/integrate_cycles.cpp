@@ -8,7 +8,7 @@
 namespace fretbem::wear_detail {
 
 // A checkpoint after every cycle whose wear was applied (the last one only observes).
-WearReport integrate_cycles(Model& model, WearCycles& cyc, WearLog* log,
+WearReport integrate_cycles(Model& model, WearCycles& cyc, Observer& log,
                             const WearCheckpoint* resume, long max_steps) {
   WearReport rep;
   const double N_end = model.scenario.wear.cycles;
@@ -22,27 +22,25 @@ WearReport integrate_cycles(Model& model, WearCycles& cyc, WearLog* log,
   } else {
     cyc.start();
   }
-  if (log && !resume) log->expect(N_end + 1.0, N_end + 1.0);  // cycles 0..N_end
+  if (!resume) log.expect(N_end + 1.0, N_end + 1.0);  // cycles 0..N_end
   for (double N = N0; N <= N_end; N += 1.0) {
     WearCycle c = cyc.carried(N);
-    if (log && next_snap < snaps.size() && snaps[next_snap] <= N) {
-      log->snapshot(N, model.surface0 - model.surface, cyc.pressure(), true);
+    if (next_snap < snaps.size() && snaps[next_snap] <= N) {
+      log.snapshot(N, model.surface0 - model.surface, cyc.pressure(), true);
       ++next_snap;
     }
     if (N < N_end) cyc.apply(c.rate);  // the last cycle observes the final surface
     c.accepted = true;
     keep(rep, std::move(c), log);
     if (N >= N_end) break;
-    if (log) {
-      WearCheckpoint at;
-      at.N = N + 1.0;
-      at.worn = model.surface0 - model.surface;
-      at.counters = cyc.counters();
-      at.steps = long(N) + 1;
-      at.next_snapshot = long(next_snap);
-      log->step_done(at);
-    }
-    if ((max_steps >= 0 && ++taken >= max_steps) || (log && log->stop_requested())) {
+    WearCheckpoint at;
+    at.N = N + 1.0;
+    at.worn = model.surface0 - model.surface;
+    at.counters = cyc.counters();
+    at.steps = long(N) + 1;
+    at.next_snapshot = long(next_snap);
+    log.step_done(at);
+    if ((max_steps >= 0 && ++taken >= max_steps) || log.stop_requested()) {
       rep.stopped = true;
       rep.N = N + 1.0;
       break;

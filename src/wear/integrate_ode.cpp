@@ -24,7 +24,7 @@ namespace {
 // (W and N equal) and that state has no accepted row yet, so N increases over accepted rows.
 // `last` (N, fingerprint) is the state with the latest accepted row; `final_state`: the state
 // after the step is the final one, whose accepted row is the final observation instead.
-void flush_step(WearReport& rep, std::size_t first, WearLog* log, double t0, std::uint64_t h0,
+void flush_step(WearReport& rep, std::size_t first, Observer& log, double t0, std::uint64_t h0,
                 double t1, std::uint64_t h1, bool final_state,
                 std::pair<double, std::uint64_t>& last) {
   for (std::size_t k = first; k < rep.history.size(); ++k) {
@@ -33,14 +33,14 @@ void flush_step(WearReport& rep, std::size_t first, WearLog* log, double t0, std
     const bool before = key == std::pair{t0, h0}, after = key == std::pair{t1, h1};
     c.accepted = (before || (after && !final_state)) && key != last;
     if (c.accepted) last = key;
-    if (log) log->cycle(c);
+    log.cycle(c);
   }
 }
 
 // N += L cycles one by one from (t, W): the steady cycle of W, then the physical history
 // (tractions carried, each cycle's wear applied before the next). Every row is a point of the
 // solution (accepted).
-double cycle_stretch(WearCycles& cyc, WearReport& rep, WearLog* log, double t, Field& W, long L,
+double cycle_stretch(WearCycles& cyc, WearReport& rep, Observer& log, double t, Field& W, long L,
                      std::pair<double, std::uint64_t>& last) {
   for (long k = 0; k < L; ++k, t += 1.0) {
     WearCycle c = k == 0 ? cyc.steady(t, W) : cyc.continued(t);
@@ -69,7 +69,7 @@ struct StepStart {
 /// One ODE wear run: the ARKODE stepper, its user data and where the run stands.
 class OdeRun {
  public:
-  OdeRun(Model& model, WearCycles& cyc, WearLog* log, WearIntegrator kind,
+  OdeRun(Model& model, WearCycles& cyc, Observer& log, WearIntegrator kind,
          const WearCheckpoint* resume);
   WearReport run(long max_steps);
 
@@ -87,7 +87,7 @@ class OdeRun {
 
   Model& model_;
   WearCycles& cyc_;
-  WearLog* log_;
+  Observer& log_;
   const WearCheckpoint* resume_;
   const Grid& g_;
   const double N_end_;
@@ -115,7 +115,7 @@ N_Vector new_vector(const Grid& g, SUNContext ctx) {
   return y;
 }
 
-OdeRun::OdeRun(Model& model, WearCycles& cyc, WearLog* log, WearIntegrator kind,
+OdeRun::OdeRun(Model& model, WearCycles& cyc, Observer& log, WearIntegrator kind,
                const WearCheckpoint* resume)
     : model_(model),
       cyc_(cyc),
@@ -126,7 +126,7 @@ OdeRun::OdeRun(Model& model, WearCycles& cyc, WearLog* log, WearIntegrator kind,
       snaps_(snapshot_cycles(N_end_)),
       y_owner_(new_vector(g_, sun_.ctx), N_VDestroy),
       y_(y_owner_.get()),
-      d_{model, cyc, log, rep_} {
+      d_{model, cyc, rep_} {
   N_VConst(0.0, y_);
   if (resume)
     resume_from(*resume);
@@ -139,10 +139,10 @@ OdeRun::OdeRun(Model& model, WearCycles& cyc, WearLog* log, WearIntegrator kind,
   last_ = resume ? std::pair{-1.0, std::uint64_t(0)} : std::pair{t_, fingerprint(worn())};
   implicit_ = choose_implicit(kind);
   rep_.implicit = implicit_;
-  if (log_ && !resume) {
+  if (!resume) {
     const SimulatedCycles e = expected_simulated_cycles(model_.scenario, implicit_, cap_,
                                                         cyc_.simulated(), rep_.history.front());
-    log_->expect(e.low, e.high);
+    log_.expect(e.low, e.high);
   }
   if (implicit_)
     d_.pre = std::make_unique<WearPreconditioner>(*model_.half_space,
@@ -170,12 +170,12 @@ void OdeRun::first_cycle() {
   WearCycle c0 = cyc_.steady(0.0, Field::Zero(g_.nx, g_.ny));
   c0.accepted = true;
   c0.worn_hash = fingerprint(worn());
-  if (log_) log_->snapshot(0.0, Field::Zero(g_.nx, g_.ny), cyc_.pressure(), true);
+  log_.snapshot(0.0, Field::Zero(g_.nx, g_.ny), cyc_.pressure(), true);
   cap_ = explicit_step_cap(model_, c0.max_slip);
   require_ode_cap(model_.scenario.wear, cap_);
   keep(rep_, std::move(c0), log_);
-  if (const std::string w = explicit_cap_warning(model_.scenario.wear, cap_); log_ && !w.empty())
-    log_->warn(w);
+  if (const std::string w = explicit_cap_warning(model_.scenario.wear, cap_); !w.empty())
+    log_.warn(w);
 }
 
 // The cap of the unworn surface decides arkode's method; a resumed run keeps that choice.
@@ -207,12 +207,12 @@ bool OdeRun::advance(std::size_t i, long max_steps) {
   guard_cost(i, s);
   if (t_ >= N_end_) return false;
   const bool snap = t_ >= snaps_[i];
-  if (log_ && snap) log_->snapshot(t_, worn(), cyc_.pressure_on(worn()), false);
+  if (snap) log_.snapshot(t_, worn(), cyc_.pressure_on(worn()), false);
   long steps = 0, fails = 0;  // counted before a restart
   it_.stats(steps, fails);
   h_next = restart(i, h_next);
   write_checkpoint(i, snap, h_next, steps, fails);
-  if ((max_steps >= 0 && ++taken_ >= max_steps) || (log_ && log_->stop_requested())) {
+  if ((max_steps >= 0 && ++taken_ >= max_steps) || log_.stop_requested()) {
     rep_.stopped = true;
     return false;
   }
@@ -269,7 +269,6 @@ double OdeRun::restart(std::size_t i, double h_next) {
 }
 
 void OdeRun::write_checkpoint(std::size_t i, bool snap, double h_next, long steps, long fails) {
-  if (!log_) return;
   WearCheckpoint at;
   at.N = t_;
   at.worn = worn();
@@ -279,7 +278,7 @@ void OdeRun::write_checkpoint(std::size_t i, bool snap, double h_next, long step
   at.steps = steps0_ + steps, at.rejected = rejected0_ + fails;
   at.next_snapshot = long(snap ? i + 1 : i);
   at.implicit = implicit_;
-  log_->step_done(at);
+  log_.step_done(at);
 }
 
 WearReport OdeRun::finish() {
@@ -297,7 +296,7 @@ WearReport OdeRun::finish() {
     // The final surface: one more steady cycle to observe it (its wear is not applied).
     WearCycle c = cyc_.steady(N_end_, rep_.worn);
     c.accepted = true;
-    if (log_) log_->snapshot(N_end_, rep_.worn, cyc_.pressure(), true);
+    log_.snapshot(N_end_, rep_.worn, cyc_.pressure(), true);
     keep(rep_, std::move(c), log_);
     rep_.N = N_end_;
   }
@@ -309,7 +308,7 @@ WearReport OdeRun::finish() {
 
 }  // namespace
 
-WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegrator kind,
+WearReport integrate_ode(Model& model, WearCycles& cyc, Observer& log, WearIntegrator kind,
                          const WearCheckpoint* resume, long max_steps) {
   return OdeRun(model, cyc, log, kind, resume).run(max_steps);
 }

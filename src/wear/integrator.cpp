@@ -15,7 +15,7 @@ Field half_space_worn(const Model& model, const Field& worn) {
   return (1.0 - model.scenario.wear.indenter_share) * worn;
 }
 
-WearReport integrate_wear(Model& model, WearCycles& cycles, WearLog* log,
+WearReport integrate_wear(Model& model, WearCycles& cycles, Observer& log,
                           const WearCheckpoint* resume, long max_steps) {
   if (!model.wear) throw InputError("wear.law: none (no wear to integrate)");
   if (simulates_every_cycle(model.scenario.wear))

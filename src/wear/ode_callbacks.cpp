@@ -38,7 +38,7 @@ int wear_rhs(realtype N, N_Vector y, N_Vector ydot, void* user) {
     d.step_max_slip = std::max(d.step_max_slip, c.max_slip);
     c.worn_hash = fingerprint(W);
     // Logged once the step is done and its accepted state known (flush_step).
-    keep(d.rep, std::move(c), nullptr);
+    keep(d.rep, std::move(c));
     return 0;
   } catch (...) {
     d.error = std::current_exception();

@@ -25,12 +25,11 @@ struct SunContext {
   SunContext& operator=(const SunContext&) = delete;
 };
 
-/// ARKODE's user data: the model and cycles the wear map runs on, where its rows go.
+/// ARKODE's user data: the model and cycles the wear map runs on, the report its rows go to.
 struct OdeData {
-  OdeData(Model& m, WearCycles& c, WearLog* l, WearReport& r) : model(m), cyc(c), log(l), rep(r) {}
+  OdeData(Model& m, WearCycles& c, WearReport& r) : model(m), cyc(c), rep(r) {}
   Model& model;
   WearCycles& cyc;
-  WearLog* log;
   WearReport& rep;
   double atol = 0.0;           // absolute tolerance on W (m): wear.atol, or rtol x indentation
   double step_max_slip = 0.0;  // largest slip per cycle seen in the current integrator step

@@ -7,10 +7,14 @@
 
 namespace fretbem::wear_detail {
 
-void keep(WearReport& rep, WearCycle c, WearLog* log) {
-  if (log) log->cycle(c);
+void keep(WearReport& rep, WearCycle c) {
   c.rate = Field();
   rep.history.push_back(std::move(c));
+}
+
+void keep(WearReport& rep, WearCycle c, Observer& log) {
+  log.cycle(c);
+  keep(rep, std::move(c));
 }
 
 // A collision needs two different worn-depth fields with the same 64-bit value.

@@ -16,8 +16,10 @@ namespace fretbem::wear_detail {
 inline constexpr double kStepWorth = 2.0;
 inline constexpr double kMinStretch = 8.0;
 
-/// Logs the cycle (when a log is given) and appends it to the report without its rate field.
-void keep(WearReport& rep, WearCycle c, WearLog* log);
+/// Appends the cycle to the report without its rate field.
+void keep(WearReport& rep, WearCycle c);
+/// Logs the cycle, then keeps it.
+void keep(WearReport& rep, WearCycle c, Observer& log);
 
 /// The fingerprint of a worn depth W (m): identifies the evaluations made on an accepted state
 /// without keeping a copy of W per evaluation.
@@ -25,11 +27,11 @@ std::uint64_t fingerprint(const Eigen::Ref<const Field>& W);
 
 /// Reference integrator: cycle after cycle, tractions carried, each cycle's wear applied
 /// before the next.
-WearReport integrate_cycles(Model& model, WearCycles& cyc, WearLog* log,
+WearReport integrate_cycles(Model& model, WearCycles& cyc, Observer& log,
                             const WearCheckpoint* resume, long max_steps);
 
 /// The ODE dW/dN = w(z0 - W) by ARKODE (erk or dirk per `kind` and the stability cap).
-WearReport integrate_ode(Model& model, WearCycles& cyc, WearLog* log, WearIntegrator kind,
+WearReport integrate_ode(Model& model, WearCycles& cyc, Observer& log, WearIntegrator kind,
                          const WearCheckpoint* resume, long max_steps);
 
 /// The absolute tolerance on W (m): wear.atol when given, else wear.rtol x the unworn

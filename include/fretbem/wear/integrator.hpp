@@ -105,10 +105,6 @@ struct WearReport {
   int exit_code = 0;     ///< of `fretbem run` (run_wear): 128 + signal when one stopped it
 };
 
-/// What the wear integrators report to: the run's Observer (history/observer.hpp), whose
-/// wear events (cycle, snapshot, step_done, expect, warn, stop_requested) they emit.
-using WearLog = Observer;
-
 /// Simulates cycles of the scenario's load path (its first period) on the model's surface.
 class WearCycles {
  public:
@@ -171,12 +167,13 @@ class WearCycles {
   int evaluations_ = 0, row_ = 0, index_ = 0;
 };
 
-/// Runs wear.integrator to wear.cycles. log may be null. With `resume`, continues from that
-/// checkpoint (cycle mode: the caller restored the stepper state and the surface). At most
+/// Runs wear.integrator to wear.cycles, reporting its wear events (cycle, snapshot, step_done,
+/// expect, warn; stop_requested asked after each wear step) to `log`. With `resume`, continues from
+/// that checkpoint (cycle mode: the caller restored the stepper state and the surface). At most
 /// `max_steps` wear steps (simulated cycles in cycle mode, accepted integrator steps in
 /// ARKODE modes) are taken in this call (negative: no limit), and none after the log's
 /// stop_requested(); the report is then `stopped`.
-WearReport integrate_wear(Model& model, WearCycles& cycles, WearLog* log,
+WearReport integrate_wear(Model& model, WearCycles& cycles, Observer& log,
                           const WearCheckpoint* resume = nullptr, long max_steps = -1);
 
 /// wear.integrator = arkode: the explicit method while the run is short against its stability
