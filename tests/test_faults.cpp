@@ -378,19 +378,17 @@ TEST_F(Faults, TornResultFileIsRebuiltOnResume) {
   EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
 }
 
-// Damaged checkpoints: exit 2 naming checkpoint.h5 (and the quantity), outputs untouched.
-TEST_F(Faults, CorruptedCheckpointsAreRefused) {
-  const fs::path good = dir_ / "good";
-  ASSERT_EQ(run("run " + kScenario + kQuick + " --stop-after 20 --out " + good.string(), dir_).code,
-            0);
-  const std::string csv = slurp(good / "timeseries.csv");
-  const std::string bytes = slurp(good / "checkpoint.h5");
-  struct Case {
-    std::string name, expect;
-    std::function<void(const fs::path&)> damage;
-  };
-  std::mt19937 rng(14);
-  const std::vector<Case> cases{
+namespace {
+
+// A damage done to a copy of a good checkpoint, and what the refusal must name.
+struct CheckpointDamage {
+  std::string name, expect;
+  std::function<void(const fs::path&)> damage;
+};
+
+// Damages to the file's bytes, made from the good checkpoint's `bytes`.
+std::vector<CheckpointDamage> damaged_bytes(const std::string& bytes, std::mt19937& rng) {
+  return {
       {"truncated", "checkpoint.h5",
        [&](const fs::path& p) {
          std::ofstream(p, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
@@ -419,74 +417,95 @@ TEST_F(Faults, CorruptedCheckpointsAreRefused) {
          for (std::size_t k = 0; k < b.size(); k += 1 + rng() % 97) b[k] = char(rng());
          std::ofstream(p, std::ios::binary) << b;
        }},
+  };
+}
+
+// Damages to single datasets of a readable checkpoint: values out of range, fields of another
+// grid, formats of another version.
+std::vector<CheckpointDamage> damaged_datasets() {
+  return {
       {"components 0", "scalars[4]",
-       [&](const fs::path& p) {
+       [](const fs::path& p) {
          auto s = read_vector(p, "scalars");
          s[4] = 0;
          replace_dataset(p, "scalars", s, {5});
        }},
       {"components -1", "scalars[4]",
-       [&](const fs::path& p) {
+       [](const fs::path& p) {
          auto s = read_vector(p, "scalars");
          s[4] = -1;
          replace_dataset(p, "scalars", s, {5});
        }},
       {"next_step -5", "next_step",
-       [&](const fs::path& p) {
+       [](const fs::path& p) {
          auto m = read_vector(p, "memory");
          m[0] = -5;
          replace_dataset(p, "memory", m, {6});
        }},
       {"next_step NaN", "memory",
-       [&](const fs::path& p) {
+       [](const fs::path& p) {
          auto m = read_vector(p, "memory");
          m[0] = NAN;
          replace_dataset(p, "memory", m, {6});
        }},
       {"next_step past the end", "next_step",
-       [&](const fs::path& p) {
+       [](const fs::path& p) {
          auto m = read_vector(p, "memory");
          m[0] = 1e6;
          replace_dataset(p, "memory", m, {6});
        }},
       {"pressure of another grid", "pressure",
-       [&](const fs::path& p) {
+       [](const fs::path& p) {
          replace_dataset(p, "pressure", std::vector<double>(64, 0.0), {8, 8});
        }},
       {"infinite traction", "traction0",
-       [&](const fs::path& p) {
+       [](const fs::path& p) {
          auto t = read_vector(p, "traction0");
          t[5] = INFINITY;
          replace_dataset(p, "traction0", t, {16, 16});
        }},
       {"bound of another grid", "memory_field_bound",
-       [&](const fs::path& p) {
+       [](const fs::path& p) {
          replace_dataset(p, "memory_field_bound", std::vector<double>(64, 0.0), {8, 8});
        }},
       {"negative bound", "memory_field_bound",
-       [&](const fs::path& p) {
+       [](const fs::path& p) {
          auto g = read_vector(p, "memory_field_bound");
          g[7] = -1.0;
          replace_dataset(p, "memory_field_bound", g, {16, 16});
        }},
       {"state 4", "state holds 4",
-       [&](const fs::path& p) {
+       [](const fs::path& p) {
          auto st = read_vector(p, "state");
          st[3] = 4.0;
          replace_dataset(p, "state", st, {16, 16});
        }},
       {"last_target overlong", "last_target",
-       [&](const fs::path& p) {
+       [](const fs::path& p) {
          replace_dataset(p, "last_target", {1e9, 0.0}, {2});
        }},
       {"old format", "checkpoint_format",
-       [&](const fs::path& p) { replace_dataset(p, "checkpoint_format", {1.0}, {1}); }},
+       [](const fs::path& p) { replace_dataset(p, "checkpoint_format", {1.0}, {1}); }},
       {"old format, old name", "format_version",
-       [&](const fs::path& p) {
+       [](const fs::path& p) {
          delete_link(p, "checkpoint_format");
          replace_dataset(p, "format_version", {1.0}, {1});
        }},
   };
+}
+
+}  // namespace
+
+// Damaged checkpoints: exit 2 naming checkpoint.h5 (and the quantity), outputs untouched.
+TEST_F(Faults, CorruptedCheckpointsAreRefused) {
+  const fs::path good = dir_ / "good";
+  ASSERT_EQ(run("run " + kScenario + kQuick + " --stop-after 20 --out " + good.string(), dir_).code,
+            0);
+  const std::string csv = slurp(good / "timeseries.csv");
+  const std::string bytes = slurp(good / "checkpoint.h5");
+  std::mt19937 rng(14);
+  std::vector<CheckpointDamage> cases = damaged_bytes(bytes, rng);
+  for (CheckpointDamage& c : damaged_datasets()) cases.push_back(std::move(c));
   for (const auto& c : cases) {
     const fs::path d = dir_ / "bad";
     fs::remove_all(d);
