@@ -11,7 +11,14 @@ seconds, peak resident memory of the child (ru_maxrss), FFT convolutions and sol
 Fits iterations per solve ~ n^a and CPU ~ n^2 log n * n^b by least squares in log-log.
 
     /usr/bin/python3 tools/bench/scaling.py [--binary build/fretbem] [--out scaling.md]
-        [--max-n 1024] [--wear-max-n 512] [--check-n 2048,4096] [--budget SECONDS] [--quick]
+        [--ns 64,128,256,512] [--wear-max-n 512] [--check-n 2048,4096] [--budget SECONDS]
+        [--cases mindlin,rough,wear] [--threads 1,2] [--wear-cycles 100] [--no-estimate]
+        [--quick]
+
+--cases picks the cases by name (a name selects its 2-cycle run too, "mindlin 1" only the
+first cycle: "mindlin 1,rough 1" for one cycle each at large n); --threads overrides the thread
+counts (default 1, and 1,2 from n = 512); --no-estimate skips check's cost calibration (its
+memory estimate stays), which at n >= 1024 costs minutes.
 
 --quick (n = 32, 64, no estimates beyond) is the smoke test registered in tests/CMakeLists.txt.
 Runs that would start after --budget seconds are skipped and listed as skipped.
@@ -37,6 +44,25 @@ CASES = [
     ("wear", "rough_fretting_wear.ini", ["wear.cycles=100"]),
 ]
 THREADS_FROM_N = 512
+
+
+def selected_cases(names, wear_cycles):
+    """The CASES named in the comma list `names` (all when empty); "NAME 1" is its first cycle
+    alone. The wear case runs wear_cycles cycles."""
+    wanted = [x.strip() for x in names.split(",") if x.strip()]
+    known = {c[0] for c in CASES}
+    for w in wanted:
+        if w.removesuffix(" 1") not in known:
+            sys.exit(f"scaling.py: --cases: unknown case '{w}' (known: {', '.join(sorted(known))})")
+    out = []
+    for name, ini, sets in CASES:
+        base = name.removesuffix(" 2cyc")
+        if wanted and base not in wanted and not (name == base and base + " 1" in wanted):
+            continue
+        if name == "wear":
+            sets = [f"wear.cycles={wear_cycles}"]
+        out.append((name, ini, sets))
+    return out
 
 
 def timed_run(cmd):
@@ -121,7 +147,14 @@ def main():
     ap.add_argument("--check-n", default="2048,4096")
     ap.add_argument("--budget", type=float, default=900.0)
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--cases", default="", help="names of the cases to run (default all)")
+    ap.add_argument("--threads", default="", help="thread counts (default 1; 1,2 from n = 512)")
+    ap.add_argument("--wear-cycles", default="100", help="wear.cycles of the wear case")
+    ap.add_argument("--no-estimate", action="store_true", help="skip check's cost calibration")
     args = ap.parse_args()
+    cases = selected_cases(args.cases, args.wear_cycles)
+    threads_for = (lambda n: [int(t) for t in args.threads.split(",")]) if args.threads else (
+        lambda n: [1, 2] if n >= THREADS_FROM_N else [1])
     ns = [32, 64] if args.quick else [int(x) for x in args.ns.split(",")]
     check_ns = [] if args.quick else [int(x) for x in args.check_n.split(",") if x]
     t0 = time.monotonic()
@@ -131,10 +164,10 @@ def main():
     results, skipped = {}, []
     with tempfile.TemporaryDirectory() as work:
         for n in ns:
-            for name, ini, sets in CASES:
+            for name, ini, sets in cases:
                 if name == "wear" and n > args.wear_max_n:
                     continue
-                for threads in ([1, 2] if n >= THREADS_FROM_N else [1]):
+                for threads in threads_for(n):
                     label = f"{name} n={n} threads={threads}"
                     if time.monotonic() - t0 > args.budget:
                         skipped.append(label)
@@ -142,7 +175,8 @@ def main():
                     all_sets = sets + [f"grid.n={n}", f"solver.threads={threads}"]
                     scenario = os.path.join(ROOT, "scenarios", ini)
                     est = check_estimate(args.binary, scenario, all_sets,
-                                         estimate=threads == 1 and "2cyc" not in name)
+                                         estimate=threads == 1 and "2cyc" not in name
+                                         and not args.no_estimate)
                     row = measure(args.binary, scenario, all_sets, work)
                     row["est"] = est
                     results[(name, n, threads)] = row
@@ -154,7 +188,7 @@ def main():
                         f"{fmt(cps)} | {fmt(row.get('nit'))} | {fmt(row.get('tit'))} |")
                     print(lines[-1], flush=True)
         for n in check_ns:
-            for name, ini, sets in CASES[::2]:
+            for name, ini, sets in [c for c in cases if "2cyc" not in c[0]]:
                 if time.monotonic() - t0 > args.budget:
                     skipped.append(f"check {name} n={n}")
                     continue
@@ -196,6 +230,14 @@ def steady_and_fits(results, ns):
         a, b = fit_power(sn, its), fit_power(sn, cpu)
         out.append(f"{base} fit: tangential iterations per solve ~ n^{fmt(a, '.2f')}, "
                    f"steady-cycle CPU ~ n^2 log n * n^{fmt(b, '.2f')} (n = {sn})")
+    for base in ("mindlin", "rough", "wear"):
+        sn = [n for n in ns if (base, n, 1) in results]
+        its = [results[(base, n, 1)].get("tit") for n in sn]
+        cpu = [results[(base, n, 1)]["cpu"] / (n * n * math.log(n)) for n in sn]
+        if sn:
+            out.append(f"{base} one run fit: tangential iterations per step ~ "
+                       f"n^{fmt(fit_power(sn, its), '.2f')}, CPU ~ n^2 log n * "
+                       f"n^{fmt(fit_power(sn, cpu), '.2f')} (n = {sn})")
     out.append("")
     return out
 
