@@ -13,6 +13,7 @@ FallbackTangentialSolver::FallbackTangentialSolver(TangentialOperator& op, doubl
                                                    std::unique_ptr<TangentialSolver> primary,
                                                    std::unique_ptr<TangentialSolver> secondary)
     : grid_(op.grid()),
+      comm_(op.half_space().communicator()),
       tolerance_(tolerance),
       self_compliance_(op.self_compliance()),
       primary_(std::move(primary)),
@@ -47,7 +48,7 @@ TangentialResult FallbackTangentialSolver::solve(const TangentialIncrement& inc,
     return primary_->solve(inc, tau, u);
   } catch (const SolverError& first) {
     // Force control at or past full sliding is an impossible load, not a hard increment.
-    if (tangential_detail::past_full_sliding(inc, grid_, 0.0)) throw;
+    if (tangential_detail::past_full_sliding(inc, grid_, 0.0, comm_)) throw;
     tau = tau_in, u = u_in;
     TangentialResult r;
     if (try_solve(*secondary_, inc, tau, u, r)) {
@@ -81,7 +82,7 @@ TangentialResult FallbackTangentialSolver::solve(const TangentialIncrement& inc,
 bool FallbackTangentialSolver::force_by_shift(const TangentialIncrement& inc, VecField& tau,
                                               VecField& u, TangentialResult& r) {
   const int nc = int(inc.target.size());
-  const double fmax = tangential_detail::bound_force(*inc.bound, grid_);
+  const double fmax = tangential_detail::bound_force(*inc.bound, grid_, comm_);
   const double tol = tolerance_ * fmax;
   TangentialIncrement d = inc;
   d.control = TangentialControl::displacement;
@@ -94,7 +95,7 @@ bool FallbackTangentialSolver::force_by_shift(const TangentialIncrement& inc, Ve
     F = rk.force, r = rk;
     return true;
   };
-  const double nodes = std::max(1.0, double((*inc.bound > 0.0).count()));
+  const double nodes = std::max(1.0, comm_.sum(double((*inc.bound > 0.0).count())));
   const double compliance = self_compliance_ * std::sqrt(nodes) / (nodes * grid_.cell_area());
   Eigen::MatrixXd B = Eigen::MatrixXd::Identity(nc, nc) / compliance;  // dF/dU estimate
   Eigen::VectorXd dU = Eigen::VectorXd::Zero(nc), F;
@@ -128,8 +129,8 @@ bool FallbackTangentialSolver::substeps(int m, const TangentialIncrement& inc, V
   Eigen::VectorXd start = inc.target * 0.0;
   if (inc.control == TangentialControl::force) {
     VecField tau0 = *inc.tau0;
-    tangential_detail::project_all(*inc.bound, tau0);
-    start = tangential_detail::total_force(tau0, grid);
+    tangential_detail::project_all(*inc.bound, tau0, comm_);
+    start = tangential_detail::total_force(tau0, grid, comm_);
   }
   TangentialResult total;
   total.shift = Eigen::VectorXd::Zero(inc.target.size());

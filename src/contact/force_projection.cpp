@@ -1,6 +1,8 @@
 // The force projection of the tangential solvers: a common shift of the movable nodes'
 // tractions that restores the imposed total force, and its displacement.
 #include <Eigen/Dense>
+#include <array>
+#include <span>
 #include <vector>
 
 #include "workspace.hpp"
@@ -22,6 +24,7 @@ void Workspace::restore_force(VecField& tau, VecField& u) {
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(op.components());
   for (const Eigen::Index k : sets.contact)
     for (int c = 0; c < op.components(); ++c) sum(c) += tau[c](k);
+  comm().sum(std::span<double>(sum.data(), sum.size()));
   if ((sum - want).norm() <= tol) return;
   sets.classify(g, tau);
   const ForceShift fs = shift_to_force(false, want, tau);
@@ -38,7 +41,7 @@ void Workspace::restore_force(VecField& tau, VecField& u) {
     op.apply(tau, u);
     return;
   }
-  if (stick_image.stick != sets.stick) update_stick_image();
+  if (comm().any(stick_image.stick != sets.stick)) update_stick_image();
   // Full field (one cheap pass): the partition solver returns this u as C tau everywhere.
   for (std::size_t c = 0; c < u.size(); ++c) u[c] += fs.lambda(c) * stick_image.image;
 }
@@ -55,7 +58,7 @@ void Workspace::update_stick_image() {
   if (!changed.empty() && changed.size() <= hs.sparse_limit()) {
     hs.tangential_add_sparse(changed, sign, stick_image.image);
   } else {
-    Field load = op.grid().zeros();
+    Field load = hs.local_zeros();
     for (std::size_t j = 0; j < sets.contact.size(); ++j) load(sets.contact[j]) = sets.stick[j];
     hs.tangential_analogy(load, stick_image.image);
   }
@@ -80,6 +83,9 @@ ForceShift shift_to_force_impl(const NodeSets& sets, const Field& g, double gsum
       fixed += at<NC>(tau, k);
   }
   bool clamped = false;
+  const bool none = sets.comm->sum(double(nodes.size())) == 0.0;
+  // One message per trial shift: the total, the Jacobian and "clamped" over the ranks.
+  std::array<double, NC + NC * NC + 1> sums;
   auto apply = [&](const Vec<NC>& l, Vec<NC>& sum, Mat<NC>& J) {
     sum = fixed;
     J.setZero();
@@ -98,6 +104,12 @@ ForceShift shift_to_force_impl(const NodeSets& sets, const Field& g, double gsum
       put<NC>(tau, k, y);
       sum += y;
     }
+    Eigen::Map<Vec<NC>>(sums.data()) = sum;
+    Eigen::Map<Mat<NC>>(sums.data() + NC) = J;
+    sums[NC + NC * NC] = clamped ? 1.0 : 0.0;
+    sets.comm->sum(sums);
+    sum = Eigen::Map<Vec<NC>>(sums.data()), J = Eigen::Map<Mat<NC>>(sums.data() + NC);
+    clamped = sums[NC + NC * NC] > 0.0;
   };
   Vec<NC> lambda = Vec<NC>::Zero(), sum, trial;
   Mat<NC> J, trial_J;
@@ -125,7 +137,7 @@ ForceShift shift_to_force_impl(const NodeSets& sets, const Field& g, double gsum
   ForceShift r;
   r.mismatch = err;
   r.lambda = lambda;
-  r.uniform = !clamped && !nodes.empty();
+  r.uniform = !clamped && !none;
   return r;
 }
 

@@ -1,5 +1,6 @@
 #include "node_sets.hpp"
 
+#include <array>
 #include <cmath>
 
 namespace fretbem::tangential_detail {
@@ -14,36 +15,39 @@ Field free_mask(const Field& g, const Field& mag) {
   return ((g > 0.0) && (mag < g * (1.0 - kBoundEps))).cast<double>();
 }
 
-Eigen::VectorXd total_force(const VecField& tau, const Grid& grid) {
+Eigen::VectorXd total_force(const VecField& tau, const Grid& grid, const Communicator& comm) {
   Eigen::VectorXd F(tau.size());
-  for (std::size_t c = 0; c < tau.size(); ++c) F(c) = tau[c].sum() * grid.cell_area();
-  return F;
+  for (std::size_t c = 0; c < tau.size(); ++c) F(c) = tau[c].sum();
+  comm.sum(std::span<double>(F.data(), F.size()));
+  return F * grid.cell_area();
 }
 
-double bound_force(const Field& g, const Grid& grid) {
-  return g.sum() * grid.cell_area();
+double bound_force(const Field& g, const Grid& grid, const Communicator& comm) {
+  return comm.sum(g.sum()) * grid.cell_area();
 }
 
-Eigen::VectorXd shift_estimate(const TangentialIncrement& inc, const VecField& u,
-                               const Field& free) {
+Eigen::VectorXd shift_estimate(const TangentialIncrement& inc, const VecField& u, const Field& free,
+                               const Communicator& comm) {
   if (inc.control == TangentialControl::displacement) return inc.target;
   // Force control: the rigid shift is the common displacement increment of the stick nodes.
-  const Field& w = free.sum() > 0 ? free : Field((*inc.bound > 0.0).cast<double>());
-  const double n = std::max(1.0, w.sum());
+  const Field& w = comm.sum(free.sum()) > 0 ? free : Field((*inc.bound > 0.0).cast<double>());
+  const double n = std::max(1.0, comm.sum(w.sum()));
   Eigen::VectorXd dU(u.size());
-  for (std::size_t c = 0; c < u.size(); ++c) dU(c) = (w * (u[c] - (*inc.u0)[c])).sum() / n;
-  return dU;
+  for (std::size_t c = 0; c < u.size(); ++c) dU(c) = (w * (u[c] - (*inc.u0)[c])).sum();
+  comm.sum(std::span<double>(dU.data(), dU.size()));
+  return dU / n;
 }
 
 // Exactly mu F_z is full sliding too: the force residual is relative to
 // sum g h^2, so a target within the tolerance of it cannot be told apart from it, and the QP's
 // stick set would have to vanish exactly (measured: 5000 iterations, residual 0.15).
-bool past_full_sliding(const TangentialIncrement& inc, const Grid& grid, double tolerance) {
+bool past_full_sliding(const TangentialIncrement& inc, const Grid& grid, double tolerance,
+                       const Communicator& comm) {
   if (inc.control != TangentialControl::force) return false;
-  return !(inc.target.norm() < bound_force(*inc.bound, grid) * (1.0 - tolerance));
+  return !(inc.target.norm() < bound_force(*inc.bound, grid, comm) * (1.0 - tolerance));
 }
 
-bool project_all(const Field& g, VecField& tau) {
+bool project_all(const Field& g, VecField& tau, const Communicator& comm) {
   const Field mag = magnitude(tau);
   bool moved = false;
   for (Eigen::Index k = 0; k < g.size(); ++k) {
@@ -52,7 +56,7 @@ bool project_all(const Field& g, VecField& tau) {
     for (auto& t : tau) t(k) *= f;
     moved = true;
   }
-  return moved;
+  return comm.any(moved);
 }
 
 namespace {
@@ -64,8 +68,8 @@ std::int64_t classify_impl(NodeSets& sets, const Field& g, const VecField& tau) 
     const Eigen::Index k = sets.contact[j];
     const bool s = at<NC>(tau, k).norm() < g(k) * (1.0 - kBoundEps);
     sets.stick[j] = s;
-    sets.nstick += s;
   }
+  sets.count_stick();
   return sets.nstick;
 }
 
@@ -77,8 +81,10 @@ double residual_impl(NodeSets& sets, const TangentialIncrement& inc, const VecFi
   const Field& g = *inc.bound;
   classify_impl<NC>(sets, g, tau);
   const Vec<NC> shift = mean_shift<NC>(sets, inc, u);
-  double stick2 = 0.0, slip2 = 0.0, gsum = 0.0;
-  Vec<NC> force = Vec<NC>::Zero();
+  // One message for the pass's sums: stick2, slip2, gsum and the force components.
+  std::array<double, 3 + NC> sums{};
+  double &stick2 = sums[0], &slip2 = sums[1], &gsum = sums[2];
+  Eigen::Map<Vec<NC>> force(sums.data() + 3);
   for (std::size_t j = 0; j < sets.contact.size(); ++j) {
     const Eigen::Index k = sets.contact[j];
     const Vec<NC> t = at<NC>(tau, k), s = shift - (at<NC>(u, k) - at<NC>(*inc.u0, k));
@@ -95,9 +101,10 @@ double residual_impl(NodeSets& sets, const TangentialIncrement& inc, const VecFi
       slip2 += s.squaredNorm();
     }
   }
+  sets.comm->sum(sums);
   dU = shift;
   stick_slip2 = stick2;
-  double res = std::sqrt((stick2 + slip2) / std::max(1.0, double(sets.contact.size()))) / scale;
+  double res = std::sqrt((stick2 + slip2) / std::max(1.0, double(sets.ncontact))) / scale;
   if (inc.control == TangentialControl::force) {
     // Force mismatch relative to the full-sliding force sum g h^2.
     const double area = grid.cell_area();
@@ -108,10 +115,17 @@ double residual_impl(NodeSets& sets, const TangentialIncrement& inc, const VecFi
 
 }  // namespace
 
-NodeSets::NodeSets(const Field& g) {
+NodeSets::NodeSets(const Field& g, const Communicator& comm_) : comm(&comm_) {
   for (Eigen::Index k = 0; k < g.size(); ++k)
     if (g(k) > 0.0) contact.push_back(k);
   stick.assign(contact.size(), 0);
+  ncontact = std::int64_t(comm->sum(double(contact.size())));
+}
+
+void NodeSets::count_stick() {
+  std::int64_t local = 0;
+  for (const std::uint8_t s : stick) local += s;
+  nstick = std::int64_t(comm->sum(double(local)));
 }
 
 std::int64_t NodeSets::classify(const Field& g, const VecField& tau) {
@@ -128,14 +142,16 @@ double residual(NodeSets& sets, const TangentialIncrement& inc, const VecField& 
 }
 
 double ScaleCache::get(TangentialOperator& op, const Field& g) {
-  if (g_.size() == g.size() && (g_ == g).all()) return scale_;
+  const Communicator& comm = op.half_space().communicator();
+  // The cached bound must match on every rank: the product below is collective.
+  if (comm.min(g_.size() == g.size() && (g_ == g).all() ? 1.0 : 0.0) > 0.0) return scale_;
   g_ = g;
   VecField load = op.zeros(), u;
   load[0] = g;
   op.apply(load, u);
   const Field contact = (g > 0.0).cast<double>();
-  const double n = contact.sum();
-  scale_ = n > 0 ? std::sqrt((contact * u[0].square()).sum() / n) : 1.0;
+  const double n = comm.sum(contact.sum());
+  scale_ = n > 0 ? std::sqrt(comm.sum((contact * u[0].square()).sum()) / n) : 1.0;
   if (!(scale_ > 0.0)) scale_ = 1.0;
   return scale_;
 }

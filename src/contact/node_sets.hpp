@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "fretbem/contact/tangential_solver.hpp"
@@ -14,30 +15,41 @@ namespace fretbem::tangential_detail {
 Field magnitude(const VecField& tau);
 /// 1 where a node is in contact and strictly inside its Coulomb disc (free to stick), else 0.
 Field free_mask(const Field& g, const Field& mag);
+// On a grid distributed over ranks every field below is this rank's slab and every sum, count
+// and "anything" is over the whole grid, formed through the communicator `comm`.
+
 /// Total force sum tau h^2 per component (N).
-Eigen::VectorXd total_force(const VecField& tau, const Grid& grid);
+Eigen::VectorXd total_force(const VecField& tau, const Grid& grid, const Communicator& comm);
 /// Largest attainable tangential force sum g h^2 (N).
-double bound_force(const Field& g, const Grid& grid);
+double bound_force(const Field& g, const Grid& grid, const Communicator& comm);
 /// dU: imposed (displacement control) or the mean of u - u0 over stick nodes (force control).
-Eigen::VectorXd shift_estimate(const TangentialIncrement& inc, const VecField& u,
-                               const Field& free);
+Eigen::VectorXd shift_estimate(const TangentialIncrement& inc, const VecField& u, const Field& free,
+                               const Communicator& comm);
 /// Force control at or past full sliding: |F| >= sum g h^2 (1 - tolerance).
-bool past_full_sliding(const TangentialIncrement& inc, const Grid& grid, double tolerance);
-/// Projects every node onto its disc |tau| <= g (open nodes to zero); true if anything moved.
-bool project_all(const Field& g, VecField& tau);
+bool past_full_sliding(const TangentialIncrement& inc, const Grid& grid, double tolerance,
+                       const Communicator& comm);
+/// Projects every node onto its disc |tau| <= g (open nodes to zero); true if anything moved
+/// on any rank.
+bool project_all(const Field& g, VecField& tau, const Communicator& comm);
 
 /// The contact nodes of one increment (g > 0, fixed while the pressure is) and which of them
 /// stick. Every per-iteration pass of the projected solver runs over this list instead of the
 /// whole grid: off contact tau = 0 and nothing is read (u there is only refreshed by the exact
 /// products).
+/// On a distributed grid the lists hold this rank's nodes (slab indices) and the counts are
+/// over the whole grid.
 struct NodeSets {
-  explicit NodeSets(const Field& g);
-  /// Marks the contact nodes strictly inside their disc as stick; returns how many.
+  NodeSets(const Field& g, const Communicator& comm);
+  /// Marks the contact nodes strictly inside their disc as stick; returns how many (all ranks).
   std::int64_t classify(const Field& g, const VecField& tau);
+  /// Sets nstick from the stick flags (all ranks).
+  void count_stick();
 
-  std::vector<Eigen::Index> contact;  ///< grid index of each contact node
+  const Communicator* comm;           ///< the reduction layer of the grid
+  std::vector<Eigen::Index> contact;  ///< slab index of each contact node
   std::vector<std::uint8_t> stick;    ///< per contact node: 1 stick, 0 slip
-  std::int64_t nstick = 0;
+  std::int64_t ncontact = 0;          ///< contact nodes on all ranks
+  std::int64_t nstick = 0;            ///< stick nodes on all ranks
 };
 
 /// Coulomb residual (see TangentialResult::residual) over the contact nodes; classifies the
@@ -68,7 +80,8 @@ Vec<NC> mean_shift(const NodeSets& sets, const TangentialIncrement& inc, const V
     const Eigen::Index k = sets.contact[j];
     sum += at<NC>(u, k) - at<NC>(*inc.u0, k);
   }
-  return sum / std::max(1.0, double(all ? sets.contact.size() : sets.nstick));
+  sets.comm->sum(std::span<double>(sum.data(), NC));
+  return sum / std::max(1.0, double(all ? sets.ncontact : sets.nstick));
 }
 
 }  // namespace fretbem::tangential_detail

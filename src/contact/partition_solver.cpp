@@ -25,13 +25,14 @@ class StickSetCg {
       : op_(op), inc_(inc), stick_(stick), tau_(tau), u_(u), s_(op.components()), d_(op.zeros()) {}
 
   double residual() {
-    const Eigen::VectorXd dU = shift_estimate(inc_, u_, stick_);
+    const Eigen::VectorXd dU = shift_estimate(inc_, u_, stick_, comm());
     rr_ = 0.0;
     for (int c = 0; c < op_.components(); ++c) {
       s_[c] = stick_ * (dU(c) - (u_[c] - (*inc_.u0)[c]));
       rr_ += s_[c].square().sum();
     }
-    return std::sqrt(rr_ / std::max(1.0, stick_.sum()));
+    rr_ = comm().sum(rr_);
+    return std::sqrt(rr_ / std::max(1.0, comm().sum(stick_.sum())));
   }
   cg::Next on_residual(int, const cg::Watch&) const { return cg::Next::proceed; }
   void refresh() {}
@@ -43,10 +44,12 @@ class StickSetCg {
     for (int c = 0; c < nc; ++c) d_[c] = s_[c] + beta * d_[c];
     op_.apply(d_, q_);
     double den = 0.0;
+    const double nstick = comm().sum(stick_.sum());
     for (int c = 0; c < nc; ++c) {
-      const double qbar =
-          inc_.control == TangentialControl::force ? (stick_ * q_[c]).sum() / stick_.sum() : 0.0;
-      den += (stick_ * (q_[c] - qbar) * d_[c]).sum();
+      const double qbar = inc_.control == TangentialControl::force
+                              ? comm().sum((stick_ * q_[c]).sum()) / nstick
+                              : 0.0;
+      den += comm().sum((stick_ * (q_[c] - qbar) * d_[c]).sum());
     }
     if (!(den > 0.0)) {
       stopped_ = true;
@@ -59,6 +62,8 @@ class StickSetCg {
   bool stopped() const { return stopped_; }
 
  private:
+  const Communicator& comm() const { return op_.half_space().communicator(); }
+
   TangentialOperator& op_;
   const TangentialIncrement& inc_;
   const Field& stick_;
@@ -97,9 +102,9 @@ int solve_stick_set(TangentialOperator& op, const TangentialIncrement& inc, cons
 int repartition(Workspace& w, Field& stick, VecField& tau, VecField& u) {
   const Field& g = *w.inc.bound;
   NodeSets& sets = w.sets;
-  sets.nstick = 0;
   for (std::size_t j = 0; j < sets.contact.size(); ++j)
-    sets.stick[j] = stick(sets.contact[j]) > 0.0, sets.nstick += sets.stick[j];
+    sets.stick[j] = stick(sets.contact[j]) > 0.0;
+  sets.count_stick();
   w.slip_node_step(tau, u, false);  // the stick solve that follows restores the force
   const int nc = int(tau.size());
   int moved = 0;
@@ -116,7 +121,7 @@ int repartition(Workspace& w, Field& stick, VecField& tau, VecField& u) {
       stick(k) = 1.0, ++moved;  // slipping backwards: re-entered its disc, it sticks
     }
   }
-  return moved;
+  return int(w.comm().sum(double(moved)));
 }
 
 }  // namespace
@@ -142,7 +147,8 @@ TangentialResult PartitionSolver::solve(const TangentialIncrement& inc, VecField
     const int moved = repartition(w, stick, tau, u);
     op_.apply(tau, u), ++used;
     w.restore_force(tau, u);
-    w.result.residual = coulomb_residual(op_.grid(), inc, tau, u, w.scale, w.result.shift, s);
+    w.result.residual =
+        coulomb_residual(op_.grid(), inc, tau, u, w.scale, w.result.shift, s, w.comm());
     if (moved == 0 && w.result.residual <= opt_.tolerance) {
       w.result.converged = true;
       break;

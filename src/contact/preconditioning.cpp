@@ -1,6 +1,9 @@
 #include "fretbem/contact/preconditioning.hpp"
 
 #include <algorithm>
+#include <vector>
+
+#include "slab_preconditioning.hpp"
 
 namespace fretbem {
 
@@ -34,6 +37,21 @@ bool PreconditionDecision::for_grid(const Grid& grid) const {
 bool PreconditionDecision::for_set(const Field& set) const {
   if (mode_ != Precondition::automatic) return mode_ == Precondition::on;
   return largest_contact_patch(set) >= kPatchNodes;
+}
+
+// Patches cross slab boundaries, so the flood fill needs the whole set: slabs are consecutive
+// rows, and their concatenation in rank order is the (nx, ny) field.
+bool for_distributed_set(const PreconditionDecision& decision, const Field& slab, const Grid& grid,
+                         const Communicator& comm) {
+  if (decision.mode() != Precondition::automatic) return decision.mode() == Precondition::on;
+  constexpr auto kPatchNodes = PreconditionDecision::kPatchNodes;
+  if (comm.sum(double((slab > 0.0).count())) < double(kPatchNodes)) return false;
+  const std::vector<double> all = comm.gather({slab.data(), std::size_t(slab.size())}, 0);
+  double on = 0.0;
+  if (comm.rank() == 0)
+    on = decision.for_set(Eigen::Map<const Field>(all.data(), grid.nx, grid.ny)) ? 1.0 : 0.0;
+  comm.broadcast({&on, 1}, 0);
+  return on > 0.0;
 }
 
 }  // namespace fretbem

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include "workspace.hpp"
@@ -42,7 +43,7 @@ double collect_slip_moves(Workspace& w, const VecField& tau, const VecField& u) 
     // O(angle^2) decrease of a small rotation in round-off and stalls near 1e-9 rad.
     sd += dd * (1.0 + over / (2.0 * g(k))) / omega;
   }
-  return sd;
+  return w.comm().sum(sd);
 }
 
 // The image C d of the step on the contact nodes into w.slip.image; with `carry` the stick
@@ -63,12 +64,11 @@ void image_step(Workspace& w, bool carry) {
   // dw_image is read on the contact nodes only (the line search and the u update).
   if (by_stick_image) w.op.add_sparse_at(w.slip.idx, w.slip.val, d, sets.contact, dw_image);
   if (carry) {
-    Vec<NC> shift;
-    for (int c = 0; c < NC; ++c) {
-      double sum = 0.0;
-      for (const double v : w.slip.val[c]) sum += v;
-      shift(c) = -sum / double(sets.nstick);
-    }
+    Vec<NC> sum = Vec<NC>::Zero();
+    for (int c = 0; c < NC; ++c)
+      for (const double v : w.slip.val[c]) sum(c) += v;
+    w.comm().sum(std::span<double>(sum.data(), NC));
+    const Vec<NC> shift = -sum / double(sets.nstick);
     for (std::size_t j = 0; j < sets.contact.size(); ++j) {
       if (!sets.stick[j]) continue;
       w.slip.idx.push_back(sets.contact[j]);
@@ -76,7 +76,7 @@ void image_step(Workspace& w, bool carry) {
       put<NC>(d, sets.contact[j], shift);
     }
     if (by_stick_image) {
-      if (w.stick_image.stick != sets.stick) w.update_stick_image();
+      if (w.comm().any(w.stick_image.stick != sets.stick)) w.update_stick_image();
       for (const Eigen::Index k : sets.contact)
         for (int c = 0; c < NC; ++c) dw_image[c](k) += shift(c) * w.stick_image.image(k);
     }
@@ -126,7 +126,7 @@ bool take_step(Workspace& w, double theta, std::size_t nslip, VecField& tau, Vec
     }
   }
   w.op.add_sparse(back, w.slip.back_val, tau, u);
-  return released;
+  return w.comm().any(released);
 }
 
 // Slip nodes move along d = P(tau + omega s) - tau, omega = 1 / C_ii (a local Newton step: it
@@ -153,7 +153,7 @@ double feasible_theta(const Workspace& w, std::size_t nslip, const VecField& tau
     const Eigen::Index k = w.slip.idx[i];
     tmax = std::min(tmax, step_to_bound<NC>(at<NC>(tau, k), at<NC>(w.slip.step, k), g(k)));
   }
-  return tmax;
+  return w.comm().min(tmax);
 }
 
 template <int NC>
@@ -165,7 +165,7 @@ bool slip_node_step_impl(Workspace& w, VecField& tau, VecField& u, bool carry_fo
   auto clear_step = [&] {
     for (const Eigen::Index k : w.slip.idx) put<NC>(d, k, Vec<NC>::Zero());
   };
-  if (w.slip.idx.empty() || !(sd > 0.0)) {
+  if (!w.comm().any(!w.slip.idx.empty()) || !(sd > 0.0)) {
     clear_step();
     return false;
   }
@@ -175,6 +175,7 @@ bool slip_node_step_impl(Workspace& w, VecField& tau, VecField& u, bool carry_fo
   // Exact line search on the QP along d: theta = (s . d) / (d . C d), at most the full step.
   double dw = 0.0;
   for (const Eigen::Index k : w.slip.idx) dw += at<NC>(d, k).dot(at<NC>(dw_image, k));
+  dw = w.comm().sum(dw);
   double theta = dw > 0.0 ? std::min(1.0, sd / dw) : 1.0;
   if (feasible && carry) theta = std::min(theta, feasible_theta<NC>(w, nslip, tau));
   for (const Eigen::Index k : sets.contact)

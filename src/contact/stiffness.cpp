@@ -1,12 +1,14 @@
 #include "fretbem/contact/stiffness.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
 #include "fretbem/contact/cg_core.hpp"
 #include "fretbem/core/errors.hpp"
+#include "slab_preconditioning.hpp"
 
 namespace fretbem {
 
@@ -112,7 +114,9 @@ void StiffnessSolver::warm_start(const std::vector<std::uint8_t>& stick) {
 // stopped on the energy value rather than confirmed on an exact product.
 class StiffnessSolver::Iteration {
  public:
-  Iteration(StiffnessSolver& s, bool pre, KxEstimate& est) : s_(s), pre_(pre), est_(est) {}
+  // nstick: the stick nodes on all ranks.
+  Iteration(StiffnessSolver& s, bool pre, KxEstimate& est, std::size_t nstick)
+      : s_(s), comm_(s.op_.half_space().communicator()), pre_(pre), est_(est), nstick_(nstick) {}
 
   // Residual r = S (e_x - C psi): a unit shift along x (component 0 in both bases).
   double residual() {
@@ -124,11 +128,14 @@ class StiffnessSolver::Iteration {
         s_.r_[c](k) = r, rr += r * r, psi_r += s_.psi_[c](k) * r;
       }
     for (const Eigen::Index k : s_.nodes_) b_psi += s_.psi_[0](k);  // e_x . psi
+    std::array<double, 3> sums{rr, psi_r, b_psi};
+    comm_.sum(sums);
+    rr = sums[0], psi_r = sums[1], b_psi = sums[2];
     rr_ = rr;
     // The energy value J = 2 b.psi - psi.C psi = b.psi + psi.r (b = e_x on S): its error
     // against b.C^-1 b is e.C e, quadratic in the CG error, where b.psi is linear in it.
     est_.add(b_psi + psi_r);
-    return std::sqrt(rr) / std::sqrt(double(s_.nodes_.size()));
+    return std::sqrt(rr) / std::sqrt(double(nstick_));
   }
   cg::Next on_residual(int, const cg::Watch&) const { return cg::Next::proceed; }
   void refresh() {}
@@ -145,6 +152,7 @@ class StiffnessSolver::Iteration {
       for (int c = 0; c < nc; ++c) s_.op_.half_space().normal_inverse(s_.r_[c], s_.z_[c]);
       for (const Eigen::Index k : s_.nodes_)
         for (int c = 0; c < nc; ++c) G_ += s_.r_[c](k) * s_.z_[c](k);
+      G_ = comm_.sum(G_);
     }
     return G_;
   }
@@ -159,6 +167,7 @@ class StiffnessSolver::Iteration {
     double den = 0.0;
     for (const Eigen::Index k : s_.nodes_)
       for (int c = 0; c < nc; ++c) den += q[c](k) * d[c](k);
+    den = comm_.sum(den);
     if (!(den > 0.0) || !(G_ > 0.0)) return {cg::Next::stop};
     const double alpha = G_ / den;
     for (const Eigen::Index k : s_.nodes_)
@@ -170,8 +179,10 @@ class StiffnessSolver::Iteration {
 
  private:
   StiffnessSolver& s_;
+  const Communicator& comm_;  // the grid's reduction layer: every sum over stick nodes
   const bool pre_;
   KxEstimate& est_;
+  const std::size_t nstick_;
   double rr_ = 0.0, G_ = 0.0;
 };
 
@@ -183,28 +194,34 @@ StiffnessResult StiffnessSolver::solve(const StateField& state) {
     stick[std::size_t(k)] = state(k) == std::uint8_t(NodeState::stick);
     if (stick[std::size_t(k)]) nodes_.push_back(k);
   }
-  if (nodes_.empty()) return res;  // full sliding: no stiffness
-  if (op_.grid().periodic && nodes_.size() == stick.size()) return rigid_interface(res);
+  // Counts over all ranks; on a distributed grid `state` and the lists are this rank's slab.
+  const Communicator& comm = op_.half_space().communicator();
+  const auto nstick = std::size_t(comm.sum(double(nodes_.size())));
+  if (nstick == 0) return res;  // full sliding: no stiffness
+  if (op_.grid().periodic && nstick == op_.grid().size()) return rigid_interface(res);
   // k_x depends on the stick set alone: a set met recently (an unchanged step, the full
   // contact after a reversal) needs no new solve.
   const std::vector<std::uint64_t> bits = pack(stick);
   for (const Known& kn : known_)
-    if (kn.count == nodes_.size() && kn.stick == bits) {
+    if (comm.min(kn.count == nstick && kn.stick == bits ? 1.0 : 0.0) > 0.0) {
       res.kx = kn.kx;
       res.reused = true;
       return res;
     }
   warm_start(stick);
-  const bool pre = res.preconditioned = preconditioning_.for_nodes(nodes_, [&] {
-    Field set(op_.grid().nx, op_.grid().ny);
+  auto stick_set = [&] {
+    Field set(state.rows(), state.cols());
     for (Eigen::Index k = 0; k < set.size(); ++k) set(k) = stick[std::size_t(k)];
     return set;
-  });
+  };
+  const bool pre = res.preconditioned =
+      comm.distributed() ? for_distributed_set(preconditioning_, stick_set(), op_.grid(), comm)
+                         : preconditioning_.for_nodes(nodes_, stick_set);
   // r_ and d_ are zero off the stick set: the preconditioner and the product read them whole.
   r_ = op_.zeros(), d_ = op_.zeros();
   if (pre) z_.resize(op_.components());
   KxEstimate est(tol_);
-  Iteration iteration(*this, pre, est);
+  Iteration iteration(*this, pre, est, nstick);
   cg::Rules rules;
   rules.tolerance = tol_;
   rules.verify = false;
@@ -219,7 +236,7 @@ StiffnessResult StiffnessSolver::solve(const StateField& state) {
   }
   res.kx = est.value() * op_.grid().cell_area();
   res.kx_error = est.error();
-  known_.push_front({nodes_.size(), bits, res.kx});
+  known_.push_front({nstick, bits, res.kx});
   if (known_.size() > kKnownSets) known_.pop_back();
   return res;
 }

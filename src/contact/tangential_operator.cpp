@@ -15,12 +15,30 @@ void TangentialOperator::apply(const VecField& tau, VecField& u) {
     hs_.tangential(tau[0], tau[1], u[0], u[1]);
 }
 
+namespace {
+
+// How a change at idx (this rank's nodes) is imaged: not at all, by direct summation, or by a
+// full product. The changed nodes of all ranks decide, so that every rank of a distributed
+// grid takes the collective product or none does (sparse_limit() is 0 there).
+enum class Update { none, sparse, product };
+
+Update update_for(const HalfSpace& hs, std::span<const std::int64_t> idx) {
+  const double changed = hs.communicator().sum(double(idx.size()));
+  if (changed == 0.0) return Update::none;
+  if (changed > double(hs.sparse_limit()) || hs.coupling() != Coupling::analogy)
+    return Update::product;
+  return Update::sparse;
+}
+
+}  // namespace
+
 void TangentialOperator::add_sparse(std::span<const std::int64_t> idx,
                                     const std::vector<std::vector<double>>& val,
                                     const VecField& tau, VecField& u) {
-  if (idx.empty()) return;
   // Sparse direct summation pays for itself below HalfSpace::sparse_limit() changed nodes.
-  if (idx.size() > hs_.sparse_limit() || hs_.coupling() != Coupling::analogy) {
+  const Update how = update_for(hs_, idx);
+  if (how == Update::none) return;
+  if (how == Update::product) {
     apply(tau, u);
     return;
   }
@@ -31,9 +49,10 @@ void TangentialOperator::add_sparse_at(std::span<const std::int64_t> idx,
                                        const std::vector<std::vector<double>>& val,
                                        const VecField& tau, std::span<const std::int64_t> targets,
                                        VecField& u) {
-  if (idx.empty()) return;
   // The same rule as add_sparse, so both take the same branch and give the same bits.
-  if (idx.size() > hs_.sparse_limit() || hs_.coupling() != Coupling::analogy) {
+  const Update how = update_for(hs_, idx);
+  if (how == Update::none) return;
+  if (how == Update::product) {
     apply(tau, u);
     return;
   }
@@ -55,7 +74,7 @@ Vec2 TangentialOperator::to_global(const Eigen::VectorXd& v) const {
 }
 
 VecField TangentialOperator::zeros() const {
-  return VecField(ncomp_, hs_.grid().zeros());
+  return VecField(ncomp_, hs_.local_zeros());
 }
 
 }  // namespace fretbem

@@ -2,9 +2,11 @@
 
 #include <cmath>
 #include <limits>
+#include <span>
 #include <type_traits>
 
 #include "fretbem/contact/cg_core.hpp"
+#include "slab_preconditioning.hpp"
 #include "workspace.hpp"
 
 namespace fretbem {
@@ -12,8 +14,9 @@ namespace fretbem {
 using namespace tangential_detail;
 
 double coulomb_residual(const Grid& grid, const TangentialIncrement& inc, const VecField& tau,
-                        const VecField& u, double scale, Eigen::VectorXd& dU, VecField& s) {
-  NodeSets sets(*inc.bound);
+                        const VecField& u, double scale, Eigen::VectorXd& dU, VecField& s,
+                        const Communicator& comm) {
+  NodeSets sets(*inc.bound, comm);
   double stick_slip2 = 0.0;
   const double res = residual(sets, inc, tau, u, scale, grid, dU, stick_slip2);
   s.resize(tau.size());
@@ -43,6 +46,14 @@ TangentialResult ProjectedCgSolver::solve(const TangentialIncrement& inc, VecFie
 
 namespace {
 
+// Whether an increment on these contact nodes and bound is preconditioned, on every rank.
+bool precondition_increment(PreconditionDecision& decision, TangentialOperator& op,
+                            const std::vector<Eigen::Index>& contact, const Field& bound) {
+  const Communicator& comm = op.half_space().communicator();
+  if (comm.distributed()) return for_distributed_set(decision, bound, op.grid(), comm);
+  return decision.for_nodes(contact, [&]() -> const Field& { return bound; });
+}
+
 // The CG step tau += alpha d, u += alpha q on the contact nodes, fused with the projection of
 // the stick nodes that it carried out of their disc (they start to slip).
 template <int NC>
@@ -68,7 +79,7 @@ bool step_and_project(Workspace& w, double alpha, const VecField& d, const VecFi
   // u on the contact nodes only: the projected solver reads nothing else, and it ends on an
   // exact product (its verification) that sets u everywhere.
   w.op.add_sparse_at(w.slip.idx, w.slip.val, tau, sets.contact, u);
-  return !w.slip.idx.empty();
+  return w.comm().any(!w.slip.idx.empty());
 }
 
 }  // namespace
@@ -160,7 +171,7 @@ class ProjectedCgSolver::Iteration {
         const double dt = tau_[c](k) - t0[c](k);
         e += dt * (0.5 * (u_[c](k) - u0[c](k)) - (shift ? w_.inc.target(c) : 0.0));
       }
-    return e;
+    return w_.comm().sum(e);
   }
 
   // tau and u on the contact nodes (all the iteration reads) and the stick set, before a step.
@@ -198,7 +209,7 @@ class ProjectedCgSolver::Iteration {
       const Eigen::Index k = w_.sets.contact[j];
       tmax = std::min(tmax, step_to_bound<NC>(at<NC>(tau_, k), at<NC>(s_.d_, k), g(k)));
     }
-    return tmax;
+    return w_.comm().min(tmax);
   }
 
   Vec slip(Eigen::Index k) const {
@@ -226,6 +237,7 @@ class ProjectedCgSolver::Iteration {
       for (std::size_t j = 0; j < contact.size(); ++j)
         if (stick[j])
           for (int c = 0; c < NC; ++c) zbar_(c) += z[c](contact[j]);
+      w_.comm().sum(std::span<double>(zbar_.data(), NC));
       zbar_ /= double(w_.sets.nstick);
     }
     double G = 0.0;
@@ -234,7 +246,7 @@ class ProjectedCgSolver::Iteration {
       const Eigen::Index k = contact[j];
       for (int c = 0; c < NC; ++c) G += (r[c](k)) * (z[c](k) - zbar_(c));
     }
-    return G;
+    return w_.comm().sum(G);
   }
 
   // d = z + beta d on S (zero elsewhere); returns s . d.
@@ -255,7 +267,7 @@ class ProjectedCgSolver::Iteration {
         num += s(c) * d[c](k);
       }
     }
-    return num;
+    return w_.comm().sum(num);
   }
 
   // d . C d on S, with q made mean-free on S under force control (the multiplier dU absorbs
@@ -264,13 +276,16 @@ class ProjectedCgSolver::Iteration {
     const auto& contact = w_.sets.contact;
     const auto& stick = w_.sets.stick;
     const VecField &d = s_.d_, &q = s_.q_;
-    Vec qd = Vec::Zero(), qsum = Vec::Zero(), dsum = Vec::Zero();
+    // One message for the three sums: q . d, sum q and sum d per component.
+    Eigen::Matrix<double, NC, 3> sums = Eigen::Matrix<double, NC, 3>::Zero();
+    auto qd = sums.col(0), qsum = sums.col(1), dsum = sums.col(2);
     for (std::size_t j = 0; j < contact.size(); ++j) {
       if (!stick[j]) continue;
       const Eigen::Index k = contact[j];
       for (int c = 0; c < NC; ++c)
         qd(c) += q[c](k) * d[c](k), qsum(c) += q[c](k), dsum(c) += d[c](k);
     }
+    w_.comm().sum(std::span<double>(sums.data(), sums.size()));
     double den = qd.sum();
     if (w_.inc.control == TangentialControl::force)
       den -= qsum.dot(dsum) / double(std::max<std::int64_t>(1, w_.sets.nstick));
@@ -294,8 +309,7 @@ TangentialResult ProjectedCgSolver::solve_components(const TangentialIncrement& 
                                                      VecField& u) {
   Workspace w(op_, inc, opt_, *cache_);
   w.start(tau, u);
-  const bool pre =
-      preconditioning_.for_nodes(w.sets.contact, [&]() -> const Field& { return *inc.bound; });
+  const bool pre = precondition_increment(preconditioning_, op_, w.sets.contact, *inc.bound);
   // Off contact the direction stays zero: only contact entries are ever written.
   d_ = op_.zeros();
   if (pre) r_ = op_.zeros(), z_.resize(NC);

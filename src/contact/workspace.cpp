@@ -8,11 +8,11 @@ namespace fretbem::tangential_detail {
 
 Workspace::Workspace(TangentialOperator& op_, const TangentialIncrement& inc_,
                      TangentialOptions opt_, ScaleCache& cache)
-    : op(op_), inc(inc_), opt(opt_), sets(*inc_.bound) {
+    : op(op_), inc(inc_), opt(opt_), sets(*inc_.bound, op_.half_space().communicator()) {
   conv0 = op.half_space().convolutions();
   scale = cache.get(op, *inc.bound);
-  if (past_full_sliding(inc, op.grid(), opt.tolerance)) {
-    const double fmax = bound_force(*inc.bound, op.grid());
+  if (past_full_sliding(inc, op.grid(), opt.tolerance, comm())) {
+    const double fmax = bound_force(*inc.bound, op.grid(), comm());
     {
       std::ostringstream msg;
       msg << "tangential force " << inc.target.norm() << " N is not below the full-sliding force "
@@ -20,14 +20,14 @@ Workspace::Workspace(TangentialOperator& op_, const TangentialIncrement& inc_,
       throw SolverError(msg.str());
     }
   }
-  gsum = inc.bound->sum();
+  gsum = comm().sum(inc.bound->sum());
   slip.step = op.zeros(), slip.image = op.zeros();
   slip.val.resize(op.components());
   slip.back_val.resize(op.components());
 }
 
 void Workspace::start(VecField& tau, VecField& u) {
-  const bool moved = project_all(*inc.bound, tau);
+  const bool moved = project_all(*inc.bound, tau, comm());
   if (moved || u.size() != tau.size()) op.apply(tau, u), exact = true;
   if (inc.control == TangentialControl::force) start_force(tau, u);
   if (inc.guess) start_guess(tau, u);
@@ -41,7 +41,7 @@ double Workspace::energy(const VecField& t, const VecField& w) const {
     // Under force control sum dtau is fixed, so the shift term is the same for every start.
     if (inc.control == TangentialControl::displacement) e -= inc.target(c) * dt.sum();
   }
-  return e;
+  return comm().sum(e);
 }
 
 // The predictor made feasible (inside the discs; under force control shifted to the target
@@ -52,7 +52,7 @@ void Workspace::start_guess(VecField& tau, VecField& u) {
   const Field& g = *inc.bound;
   VecField tg = *inc.guess;
   if (tg.size() != tau.size()) return;
-  project_all(g, tg);
+  project_all(g, tg, comm());
   if (inc.control == TangentialControl::force) {
     const double tol = 1e-15 * gsum;
     const Eigen::VectorXd want = inc.target / op.grid().cell_area();
@@ -78,9 +78,9 @@ double Workspace::residual(const VecField& tau, const VecField& u, double& stick
 // again first) — take the one of lower QP energy 1/2 (tau - tau0) . (u - u0).
 void Workspace::start_force(VecField& tau, VecField& u) {
   const Field& g = *inc.bound;
-  const double area = op.grid().cell_area(), tol = 1e-15 * g.sum();
+  const double area = op.grid().cell_area(), tol = 1e-15 * gsum;
   const Eigen::VectorXd want = inc.target / area;
-  if ((total_force(tau, op.grid()) / area - want).norm() <= tol) return;
+  if ((total_force(tau, op.grid(), comm()) / area - want).norm() <= tol) return;
   VecField ta = tau, ua, tb = tau, ub;
   sets.classify(g, tau);
   const bool a_ok = shift_to_force(false, want, ta).mismatch <= tol;
@@ -98,7 +98,7 @@ void Workspace::start_force(VecField& tau, VecField& u) {
 
 TangentialResult Workspace::finish(const VecField& tau, const std::string& algorithm) {
   result.convolutions = int(op.half_space().convolutions() - conv0);
-  result.force = total_force(tau, op.grid());
+  result.force = total_force(tau, op.grid(), comm());
   if (!result.converged) {
     std::ostringstream msg;
     msg << algorithm << " tangential solver did not converge: residual " << result.residual

@@ -69,6 +69,8 @@ struct Workspace {
   void update_stick_image();
   /// Fills the report; throws SolverError when the increment did not converge.
   TangentialResult finish(const VecField& tau, const std::string& algorithm);
+  /// The grid's reduction layer: every sum over nodes goes through it.
+  const Communicator& comm() const { return op.half_space().communicator(); }
 
   TangentialOperator& op;
   const TangentialIncrement& inc;

@@ -114,8 +114,10 @@ class PartitionSolver final : public TangentialSolver {
 
 /// Coulomb-law residual of a state (see TangentialResult::residual) and the slip increment s.
 /// Under force control dU is the mean of u - u0 over stick nodes.
+/// On a distributed grid the fields are this rank's slabs and the sums go through `comm`.
 double coulomb_residual(const Grid& grid, const TangentialIncrement& inc, const VecField& tau,
-                        const VecField& u, double scale, Eigen::VectorXd& dU, VecField& s);
+                        const VecField& u, double scale, Eigen::VectorXd& dU, VecField& s,
+                        const Communicator& comm = serial_communicator());
 
 /// Stick-node tolerance: a node with |tau| < g (1 - kBoundEps) is free to stick; slip nodes sit
 /// on the bound up to round-off because they are placed there by projection.
@@ -156,6 +158,7 @@ class FallbackTangentialSolver final : public TangentialSolver {
   void announce(const std::string& what);
 
   Grid grid_;
+  const Communicator& comm_;  // the grid's reduction layer
   double tolerance_, self_compliance_;
   std::unique_ptr<TangentialSolver> primary_, secondary_;
   int fallbacks_ = 0;
