@@ -21,7 +21,6 @@ Workspace::Workspace(TangentialOperator& op_, const TangentialIncrement& inc_,
     }
   }
   gsum = inc.bound->sum();
-  slip.step = op.zeros(), slip.image = op.zeros();
   slip.val.resize(op.components());
   slip.back_val.resize(op.components());
 }
@@ -36,8 +35,10 @@ void Workspace::start(VecField& tau, VecField& u) {
   VecField tg, ug;
   const bool guess = inc.guess && feasible_guess(tg, ug);
   double stick_slip2 = 0.0;
-  if (guess && residual(tg, ug, stick_slip2) <= opt.tolerance) {
+  const double res = guess ? residual(tg, ug, stick_slip2) : 0.0;
+  if (guess && res <= opt.tolerance) {
     tau = std::move(tg), u = std::move(ug), exact = true;
+    start_residual = {res, stick_slip2};
     return;
   }
   if (inc.control == TangentialControl::force) start_force(tau, u);

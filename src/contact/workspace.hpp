@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "node_sets.hpp"
@@ -82,6 +84,10 @@ struct Workspace {
   SlipStepBuffers slip;
   std::int64_t conv0 = 0;
   bool exact = false;  ///< u was set to C tau by one product at the start (no drift yet)
+  /// The residual and stick-node slip sum start() computed for the start it took (a guess that
+  /// met the tolerance), with `sets` and result.shift still those of that start; the solver's
+  /// first residual reads it instead of computing it again. Empty otherwise.
+  std::optional<std::pair<double, double>> start_residual;
   TangentialResult result;
 };
 
