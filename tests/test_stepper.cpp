@@ -500,6 +500,20 @@ TEST(MasingImage, SecondCycleCostsWhatTheThirdCosts) {
   EXPECT_LT(double(reload), 0.5 * double(unload)) << reload << " " << unload;
 }
 
+// An increment whose predictor already meets the solver's stopping rule costs the one product
+// that images it: under force control the starts it would be compared against (the stick
+// nodes shifted to the target force, and every contact node shifted: one product each) are
+// not built. Third cycle of a Mindlin–Deresiewicz loop without kx: every step starts at the
+// second cycle's solution of the same increment.
+TEST(Predictor, ConvergedGuessCostsOneProduct) {
+  const Recorder r = run(sphere_scenario(64, sine_load(0.6, 3, 32), "stiffness = none\n"));
+  ASSERT_EQ(r.rows.size(), 97u);
+  for (std::size_t k = 65; k < r.rows.size(); ++k) {
+    EXPECT_EQ(r.rows[k].tangential_iterations, 0) << k;
+    EXPECT_EQ(r.rows[k].convolutions, 1) << k;
+  }
+}
+
 // The image's table is in the checkpoint: stopped on the first unloading branch (step 7 of a
 // 16-step sine, where the image starts the increments) and resumed, the run is byte-identical
 // to the uninterrupted one.

@@ -187,7 +187,10 @@ bool slip_node_step_impl(Workspace& w, VecField& tau, VecField& u, bool carry_fo
 
 }  // namespace
 
+// The step buffers are made on first use: an increment whose start is already converged
+// takes no step and allocates nothing.
 bool Workspace::slip_node_step(VecField& tau, VecField& u, bool carry_force, bool feasible) {
+  if (slip.step.empty()) slip.step = op.zeros(), slip.image = op.zeros();
   return by_components(op.components(), [&](auto nc) {
     return slip_node_step_impl<decltype(nc)::value>(*this, tau, u, carry_force, feasible);
   });

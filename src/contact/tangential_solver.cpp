@@ -110,6 +110,12 @@ class ProjectedCgSolver::Iteration {
       : s_(s), w_(w), pre_(pre), tau_(tau), u_(u) {}
 
   double residual() {  // classifies the stick set S
+    if (w_.start_residual) {
+      const auto [res, stick_slip2] = *w_.start_residual;
+      w_.start_residual.reset();
+      G_ = stick_slip2;
+      return w_.result.residual = res;
+    }
     w_.result.residual = w_.residual(tau_, u_, G_);
     return w_.result.residual;
   }
@@ -121,6 +127,7 @@ class ProjectedCgSolver::Iteration {
 
   // G = s . s on S (from the residual), or s . z with the preconditioned z.
   double gradient_product() {
+    if (!buffers_) make_buffers();
     zbar_ = Vec::Zero();
     if (pre_ && w_.sets.nstick > 0) G_ = preconditioned_product();
     return G_;
@@ -249,6 +256,14 @@ class ProjectedCgSolver::Iteration {
     return w_.comm().sum(G);
   }
 
+  // The direction (zero off contact: only contact entries are ever written) and the
+  // preconditioner's buffers, made when the first step is taken: a converged start needs none.
+  void make_buffers() {
+    s_.d_ = s_.op_.zeros();
+    if (pre_) s_.r_ = s_.op_.zeros(), s_.z_.resize(NC);
+    buffers_ = true;
+  }
+
   // d = z + beta d on S (zero elsewhere); returns s . d.
   double direction(double beta) {
     const auto& contact = w_.sets.contact;
@@ -295,6 +310,7 @@ class ProjectedCgSolver::Iteration {
   ProjectedCgSolver& s_;
   Workspace& w_;
   const bool pre_;
+  bool buffers_ = false;  // make_buffers done
   VecField &tau_, &u_;
   double G_ = 0.0;
   Vec zbar_ = Vec::Zero();     // mean of z on S (force control), subtracted from the direction
@@ -310,9 +326,6 @@ TangentialResult ProjectedCgSolver::solve_components(const TangentialIncrement& 
   Workspace w(op_, inc, opt_, *cache_);
   w.start(tau, u);
   const bool pre = precondition_increment(preconditioning_, op_, w.sets.contact, *inc.bound);
-  // Off contact the direction stays zero: only contact entries are ever written.
-  d_ = op_.zeros();
-  if (pre) r_ = op_.zeros(), z_.resize(NC);
   Iteration<NC> iteration(*this, w, pre, tau, u);
   cg::Rules rules;
   rules.tolerance = opt_.tolerance;

@@ -21,16 +21,29 @@ Workspace::Workspace(TangentialOperator& op_, const TangentialIncrement& inc_,
     }
   }
   gsum = comm().sum(inc.bound->sum());
-  slip.step = op.zeros(), slip.image = op.zeros();
   slip.val.resize(op.components());
   slip.back_val.resize(op.components());
 }
 
+// A guess that already meets the solver's own stopping rule is the answer: the starts it would
+// be compared against (one or two products under force control) are then not built. On a
+// steady cycle the predictor's guess is of this kind at every step (3 products per step
+// otherwise, 1 with this).
 void Workspace::start(VecField& tau, VecField& u) {
   const bool moved = project_all(*inc.bound, tau, comm());
   if (moved || u.size() != tau.size()) op.apply(tau, u), exact = true;
+  VecField tg, ug;
+  const bool guess = inc.guess && feasible_guess(tg, ug);
+  double stick_slip2 = 0.0;
+  const double res = guess ? residual(tg, ug, stick_slip2) : 0.0;
+  if (guess && res <= opt.tolerance) {
+    tau = std::move(tg), u = std::move(ug), exact = true;
+    start_residual = {res, stick_slip2};
+    return;
+  }
   if (inc.control == TangentialControl::force) start_force(tau, u);
-  if (inc.guess) start_guess(tau, u);
+  if (guess && energy(tg, ug) < energy(tau, u))
+    tau = std::move(tg), u = std::move(ug), exact = true;
 }
 
 double Workspace::energy(const VecField& t, const VecField& w) const {
@@ -45,13 +58,13 @@ double Workspace::energy(const VecField& t, const VecField& w) const {
 }
 
 // The predictor made feasible (inside the discs; under force control shifted to the target
-// force as start_force does), imaged by one product, and kept when its QP energy is below the
-// current start's. A predictor close to the solution (the same step of the previous cycle of
-// a periodic history) then leaves the solver little or nothing to do.
-void Workspace::start_guess(VecField& tau, VecField& u) {
+// force as start_force does) and imaged by one product; false when no shift reaches the target
+// force. A predictor close to the solution (the same step of the previous cycle of a periodic
+// history) then leaves the solver little or nothing to do.
+bool Workspace::feasible_guess(VecField& tg, VecField& ug) {
   const Field& g = *inc.bound;
-  VecField tg = *inc.guess;
-  if (tg.size() != tau.size()) return;
+  tg = *inc.guess;
+  if (tg.size() != inc.tau0->size()) return false;
   project_all(g, tg, comm());
   if (inc.control == TangentialControl::force) {
     const double tol = 1e-15 * gsum;
@@ -59,13 +72,10 @@ void Workspace::start_guess(VecField& tau, VecField& u) {
     sets.classify(g, tg);
     if (shift_to_force(false, want, tg).mismatch > tol &&
         shift_to_force(true, want, tg).mismatch > tol)
-      return;
+      return false;
   }
-  VecField ug;
   op.apply(tg, ug);
-  if (!(energy(tg, ug) < energy(tau, u))) return;
-  tau = std::move(tg), u = std::move(ug);
-  exact = true;
+  return true;
 }
 
 double Workspace::residual(const VecField& tau, const VecField& u, double& stick_slip2) {

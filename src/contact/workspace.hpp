@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "node_sets.hpp"
@@ -43,11 +45,14 @@ struct SlipStepBuffers {
 struct Workspace {
   Workspace(TangentialOperator& op, const TangentialIncrement& inc, TangentialOptions opt,
             ScaleCache& cache);
-  /// Makes the warm start feasible (and of the right force under force control), with u = C tau.
+  /// Makes the warm start feasible (and of the right force under force control), with u = C tau;
+  /// takes inc.guess instead when it solves the increment within the tolerance or its QP
+  /// energy is lower.
   void start(VecField& tau, VecField& u);
   void start_force(VecField& tau, VecField& u);
-  /// Takes inc.guess (made feasible) instead of tau when its QP energy is lower.
-  void start_guess(VecField& tau, VecField& u);
+  /// inc.guess made feasible (of the target force under force control) in tg, with ug = C tg;
+  /// false when it cannot be.
+  bool feasible_guess(VecField& tg, VecField& ug);
   /// QP objective of the increment, 1/2 dtau . C dtau - dU . sum dtau (per cell area).
   double energy(const VecField& t, const VecField& w) const;
   /// Coulomb residual of (tau, u); classifies `sets`, sets result.shift.
@@ -81,6 +86,10 @@ struct Workspace {
   SlipStepBuffers slip;
   std::int64_t conv0 = 0;
   bool exact = false;  ///< u was set to C tau by one product at the start (no drift yet)
+  /// The residual and stick-node slip sum start() computed for the start it took (a guess that
+  /// met the tolerance), with `sets` and result.shift still those of that start; the solver's
+  /// first residual reads it instead of computing it again. Empty otherwise.
+  std::optional<std::pair<double, double>> start_residual;
   TangentialResult result;
 };
 
