@@ -12,6 +12,7 @@
 
 #include "support/hertz.hpp"
 #include "support/temp_dir.hpp"
+#include "support/varying_normal_table.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -32,14 +33,7 @@ fs::path temp_path(const std::string& name) {
 fs::path varying_normal_table(int rows_per_period, double P, double mu, bool prelude = false) {
   const fs::path f =
       temp_path("varying_" + std::to_string(rows_per_period) + (prelude ? "p" : "")) += ".csv";
-  std::ofstream out(f);
-  out << std::setprecision(17) << "time,Fz,Fx\n";
-  if (prelude) out << "0," << P << "," << 0.9 * mu * P << "\n";
-  for (int k = prelude ? 1 : 0; k <= 3 * rows_per_period; ++k) {
-    const double t = double(k) / rows_per_period;
-    out << t << "," << P * (1 + 0.3 * std::sin(2 * M_PI * t)) << ","
-        << 0.5 * mu * P * std::cos(2 * M_PI * t) << "\n";
-  }
+  fretbem_test::write_sine_normal_table(f, rows_per_period, P, mu, 3, prelude);
   return f;
 }
 

@@ -10,10 +10,10 @@
 namespace fretbem {
 
 const std::vector<std::string>& CycleRow::columns() {
-  static const std::vector<std::string> c{"cycle",           "steps",         "dissipated_energy",
-                                          "loop_area",       "Fx_amplitude",  "Ux_amplitude",
-                                          "kx_at_max",       "kx_at_min",     "slip_area_at_peak",
-                                          "slip_ring_cells", "contact_nodes", "a_over_h"};
+  static const std::vector<std::string> c{
+      "cycle",         "steps",     "dissipated_energy", "loop_area",         "Fx_amplitude",
+      "Ux_amplitude",  "kx_at_max", "kx_at_min",         "slip_area_at_peak", "slip_ring_cells",
+      "contact_nodes", "a_over_h",  "step_error"};
   return c;
 }
 
@@ -21,7 +21,7 @@ std::vector<double> CycleRow::values() const {
   return {
       double(cycle),         double(steps), dissipated_energy, loop_area,         Fx_amplitude,
       Ux_amplitude,          kx_at_max,     kx_at_min,         slip_area_at_peak, slip_ring_cells,
-      double(contact_nodes), a_over_h};
+      double(contact_nodes), a_over_h,      step_error};
 }
 
 CycleAccumulator::CycleAccumulator(PathType path, double h)
@@ -29,6 +29,7 @@ CycleAccumulator::CycleAccumulator(PathType path, double h)
 
 void CycleAccumulator::start_cycle(int cycle) {
   in_cycle_ = true, cycle_ = cycle, diss0_ = prev_.dissipation, loop_ = 0, steps_ = 0;
+  step_error_ = 0;
   peak_ = -1, fmin_ = fmax_ = prev_.Fx, umin_ = umax_ = prev_.Ux;
   ring_ = -1, ring_at_peak_ = false, turn_max_ = turn_min_ = false;
 }
@@ -70,6 +71,7 @@ std::optional<CycleRow> CycleAccumulator::add(const StepRecord& r) {
   loop_ +=
       0.5 * (r.Fx + prev_.Fx) * (r.Ux - prev_.Ux) + 0.5 * (r.Fy + prev_.Fy) * (r.Uy - prev_.Uy);
   track_extremes(r);
+  step_error_ += r.step_error;
   ++steps_;
   prev_ = r;
   return closed;
@@ -84,6 +86,7 @@ CycleRow CycleAccumulator::row() const {
   c.kx_at_min = turn_min_ ? k_at_min_ : k_any_min_;
   c.slip_area_at_peak = slip_at_peak_;
   c.slip_ring_cells = ring_, c.contact_nodes = ring_nodes_, c.a_over_h = ring_radius_;
+  c.step_error = step_error_;
   return c;
 }
 

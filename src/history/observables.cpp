@@ -32,7 +32,8 @@ const std::vector<std::string>& StepRecord::columns() {
                                           "contact_nodes",
                                           "edge_load_share",
                                           "coupling_iterations",
-                                          "coupling_residual"};
+                                          "coupling_residual",
+                                          "step_error"};
   return c;
 }
 
@@ -64,7 +65,8 @@ std::vector<double> StepRecord::values() const {
           double(contact_nodes),
           edge_load_share,
           double(coupling_iterations),
-          coupling_residual};
+          coupling_residual,
+          step_error};
 }
 
 StepRecord StepRecord::from_values(const std::vector<double>& v) {
@@ -81,6 +83,7 @@ StepRecord StepRecord::from_values(const std::vector<double>& v) {
   if (v.size() > 25)
     r.slip_ring_cells = v[23], r.contact_nodes = long(v[24]), r.edge_load_share = v[25];
   if (v.size() > 27) r.coupling_iterations = int(v[26]), r.coupling_residual = v[27];
+  if (v.size() > 28) r.step_error = v[28];
   return r;
 }
 

@@ -30,9 +30,10 @@ std::size_t Stepper::run(const std::vector<Observer*>& observers, std::size_t ma
 }
 
 StepperMemory Stepper::memory() const {
-  StepperMemory m{next_, last_normal_, last_target_, dissipation_, wear_volume_, {}, {}};
+  StepperMemory m{next_, last_normal_, last_target_, dissipation_, wear_volume_, {}, {}, {}};
   if (bound_.size() > 0) m.fields["bound"] = bound_;
   m.masing = masing_.flatten();
+  if (model_.scenario.load.tolerance > 0.0) m.step_scale = {force_scale_, shift_scale_};
   for (std::size_t c = 0; c < pressure_slip_.size(); ++c)
     m.fields["pressure_slip" + std::to_string(c)] = pressure_slip_[c];
   return m;
@@ -54,6 +55,9 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m,
   last_target_ = m.last_target;
   dissipation_ = m.dissipation;
   wear_volume_ = m.wear_volume;
+  const bool scaled = m.step_scale.size() == 2;
+  force_scale_ = scaled ? m.step_scale[0] : 0.0;
+  shift_scale_ = scaled ? m.step_scale[1] : 0.0;
   pressure_slip_.clear();
   const auto w0 = m.fields.find("pressure_slip0"), w1 = m.fields.find("pressure_slip1");
   if (w0 != m.fields.end() && w1 != m.fields.end()) pressure_slip_ = {w0->second, w1->second};
@@ -68,7 +72,9 @@ StepRecord Stepper::advance(std::size_t k) {
   const MasingImage::Plan& mp = masing_plan_;
   if (!mp.image.empty() && mp.image[k])
     if (const VecField* image = masing_.image(mp.level[k])) guess_ = image;
-  const StepRecord rec = advance(steps.at(k), int(k));
+  const bool controlled = model_.scenario.load.tolerance > 0.0;
+  const StepRecord rec = controlled && k > 0 ? advance_controlled(k) : advance(steps.at(k), int(k));
+  if (controlled) update_step_scales(rec);
   guess_ = nullptr;
   shortcut_ = false;
   if (!mp.virgin.empty() && mp.virgin[k])
@@ -117,7 +123,8 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
   rec.Ux = state_.shift.x() + 0.0, rec.Uy = state_.shift.y() + 0.0;
   measure_areas(state_, op, rec);
   rec.kx = std::numeric_limits<double>::quiet_NaN();
-  if (stiffness_wanted(model_, k, ls.turning)) rec.kx = model_.stiffness->solve(state_.state).kx;
+  if (!substep_ && stiffness_wanted(model_, k, ls.turning))
+    rec.kx = model_.stiffness->solve(state_.state).kx;
   rec.edge_load_share = model_.scenario.grid.periodic ? 0.0 : edge_load_share(state_.pressure);
   rec.dissipation = dissipation_;
   rec.wear_volume = wear_volume_;

@@ -104,6 +104,7 @@ void write_load(IniWriter& w, const LoadSpec& l) {
   w.put("steps", l.steps);
   w.put("table", l.table);
   w.put("allow_large_shift", l.allow_large_shift);
+  w.put("tolerance", l.tolerance);
 }
 
 void write_solver(IniWriter& w, const SolverSpec& s) {

@@ -182,6 +182,7 @@ void read_load_values(const Reader& r, const fs::path& base, LoadSpec& l) {
   if (r.has("load.steps")) l.steps = static_cast<int>(r.count("load.steps"));
   if (r.has("load.table")) l.table = r.path("load.table", base, l.path == PathType::table);
   if (r.has("load.allow_large_shift")) l.allow_large_shift = r.boolean("load.allow_large_shift");
+  if (r.has("load.tolerance")) l.tolerance = r.number("load.tolerance");
 }
 
 void check_amplitudes(const Reader& r, const LoadSpec& l) {
@@ -356,6 +357,13 @@ void check_wear_friction(const Reader& r, const WearSpec& w, const FrictionSpec&
     r.fail_value("friction.law",
                  "needs wear.integrator = cycle in a wear run (the ODE integrators' "
                  "wear map restarts the friction evolution in every evaluation)");
+}
+
+// Error-controlled steps re-solve a row's load from its start state; the wear integrators
+// restore and replay rows on frozen surfaces with their own step control (docs/wear.md).
+void check_wear_load_tolerance(const Reader& r, const WearSpec& w, const LoadSpec& l) {
+  if (w.law != WearLaw::none && l.tolerance > 0.0)
+    r.fail_value("load.tolerance", "is not supported in wear runs (wear.law is not none); use 0");
 }
 
 }  // namespace fretbem::scenario_detail

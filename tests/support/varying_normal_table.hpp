@@ -1,12 +1,41 @@
+// Load tables whose normal load varies: the sampled sine F_z = P (1 + 0.3 sin 2 pi t),
+// F_x = 0.5 mu P cos 2 pi t, and below a coarse table of 8 rows a period.
 // A load table of two periods in which F_z and F_x vary together (time in s, forces in N):
 // F_z 10, 13, 10, 7 N and F_x = 2 sin(2 pi t) N sampled 8 times a period, exact zeros at
 // the half periods. The bound mu p moves every step, and nodes stop on it without slipping.
 #pragma once
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 
 namespace fretbem_test {
+
+/// F_z = P (1 + 0.3 sin 2 pi t), F_x = 0.5 mu P cos 2 pi t (N) sampled at `rows_per_period`
+/// rows a period over `periods` periods, each interval split into `split` equal rows along the
+/// straight line between its samples (the same piecewise-linear path in more rows); with a
+/// prelude, first a push to F_x = 0.9 mu P and the periodic load one period later.
+inline void write_sine_normal_table(const std::filesystem::path& file, int rows_per_period,
+                                    double P, double mu, int periods = 3, bool prelude = false,
+                                    int split = 1) {
+  std::ofstream out(file);
+  out << std::setprecision(17) << "time,Fz,Fx\n";
+  if (prelude) out << "0," << P << "," << 0.9 * mu * P << "\n";
+  auto fz = [&](double t) { return P * (1 + 0.3 * std::sin(2 * M_PI * t)); };
+  auto fx = [&](double t) { return 0.5 * mu * P * std::cos(2 * M_PI * t); };
+  for (int k = prelude ? 1 : 0; k <= periods * rows_per_period; ++k) {
+    const double t = double(k) / rows_per_period, t0 = double(k - 1) / rows_per_period;
+    for (int j = k > (prelude ? 1 : 0) ? 1 : split; j <= split; ++j) {
+      const double w = double(j) / split;
+      if (j == split)
+        out << t << "," << fz(t) << "," << fx(t) << "\n";
+      else
+        out << t0 + w * (t - t0) << "," << (1 - w) * fz(t0) + w * fz(t) << ","
+            << (1 - w) * fx(t0) + w * fx(t) << "\n";
+    }
+  }
+}
 
 inline void write_varying_normal_table(const std::filesystem::path& file) {
   std::ofstream t(file);

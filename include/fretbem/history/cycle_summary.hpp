@@ -33,6 +33,9 @@ struct CycleRow {
   double slip_ring_cells = 0;
   long contact_nodes = 0;
   double a_over_h = 0;
+  /// Sum of the cycle's step_error (StepRecord): the step-doubling estimate of its relative
+  /// error; 0 with load.tolerance = 0.
+  double step_error = 0;
 
   /// Column names of DIR/cycles.csv, in the order of values().
   static const std::vector<std::string>& columns();
@@ -71,6 +74,7 @@ class CycleAccumulator {
   long ring_nodes_ = 0;
   bool ring_at_peak_ = false;
   int steps_ = 0;
+  double step_error_ = 0;
 };
 
 /// What one simulated wear cycle measures from its steps. Energies in J, areas in m^2,

@@ -16,6 +16,7 @@
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/observables.hpp"
 #include "fretbem/history/observer.hpp"
+#include "fretbem/history/step_control.hpp"
 
 namespace fretbem {
 
@@ -35,6 +36,9 @@ struct StepperMemory {
   std::map<std::string, Field> fields;
   /// MasingImage::flatten of the stepper's Masing image (empty: none recorded).
   std::vector<double> masing;
+  /// load.tolerance > 0: the largest |F| (N) and |U| (m) of the rows so far, the scales of
+  /// step_control's estimate; empty otherwise.
+  std::vector<double> step_scale;
 };
 
 class Stepper {
@@ -93,6 +97,26 @@ class Stepper {
                        StepRecord& rec);
   double slip_threshold();
 
+  // Error-controlled steps (load.tolerance; defined in step_control.cpp).
+  /// Everything a step changes in the stepper, to re-solve a step from its start.
+  struct Snapshot {
+    InterfaceState state;
+    Field bound, bound_start, pressure_start;
+    double indentation_start = 0.0, dissipation = 0.0, wear_volume = 0.0;
+    bool load_moved = false, bound_moved = false, surface_changed = false;
+    std::optional<NormalLoad> last_normal;
+    Eigen::VectorXd last_target;
+    VecField pressure_slip;
+  };
+  Snapshot snapshot() const;
+  void restore_snapshot(const Snapshot& s);
+  StepRecord advance_controlled(std::size_t k);
+  StepRecord substep(const LoadStep& ls, int k);
+  double refine(const Snapshot& start, const LoadStep& a, const LoadStep& b, const StepEnd& one,
+                int depth, int k, StepRecord& last);
+  StepScales step_scales(double t_end, const StepEnd& one, const StepEnd& two) const;
+  void update_step_scales(const StepRecord& rec);
+
   Model& model_;
   InterfaceState state_;
   Field bound_;
@@ -125,6 +149,15 @@ class Stepper {
   /// Coupling::coupled: tangential displacement (m) of the pressure at the end of the last
   /// step (the start of this one); empty until first needed (and after a restore).
   VecField pressure_slip_;
+  bool substep_ = false;  ///< advancing a sub-step of a row: no kx (the row's end computes it)
+  const VecField* row_guess_ = nullptr;  ///< the predictor of the row being subdivided
+  double row_time_ = 0.0;                ///< its end time
+  double row_span_ = 0.0;                ///< its duration (periods)
+  int substep_normal_iterations_ = 0, substep_tangential_iterations_ = 0;
+  int substep_coupling_iterations_ = 0;
+  double force_scale_ = 0.0;  ///< largest |F| (N) of the rows so far (load.tolerance > 0)
+  double shift_scale_ = 0.0;  ///< largest |U| (m) of the rows so far
+  bool depth_limit_said_ = false;
 };
 
 }  // namespace fretbem

@@ -1,0 +1,126 @@
+#!/usr/bin/env python3
+"""Run time against error: fixed steps against error-controlled steps (load.tolerance).
+
+Usage: step_control_cost.py FRETBEM CASE [--rows N] [--splits 1,2,4,8] [--tolerances ...]
+                             [--limit J]
+
+CASE: sphere (mindlin_cycle.ini's sphere at n = 96 under F_z = P (1 + 0.3 sin 2 pi t),
+F_x = 0.5 mu P cos 2 pi t, P = 10 N), displacement (the same F_z, U_x = 80 nm cos 2 pi t, n = 48)
+or rough (rough_fretting_cycle.ini at n = 64, F_z = 2 N (1 + 0.3 sin 2 pi t),
+F_x = 0.5 mu 2 N cos 2 pi t). The table samples the load at N rows a period from t = -1/4 over
+three periods; a table is linear between its rows, so the path is that piecewise-linear load.
+Fixed runs split every interval of it into s equal rows; the step limit of the third period's
+dissipation is Richardson (order 2) from the two largest splits. Error-controlled runs use the
+N-row table with load.tolerance. Per run: the third period's dissipated_energy, its error
+against the limit, the CPU seconds of the run (user + system), the convolutions of the run and
+the cycle's step_error. Prints CSV.
+"""
+import argparse
+import csv
+import math
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+
+CASES = {
+    "sphere": dict(n=96, length=2.8e-4, P=10.0, surface="type = sphere\nradius = 0.01\n",
+                   column="Fx", amplitude=lambda P, mu: 0.5 * mu * P),
+    "displacement": dict(n=48, length=2.8e-4, P=10.0, surface="type = sphere\nradius = 0.01\n",
+                         column="Ux", amplitude=lambda P, mu: 80e-9),
+    "rough": dict(n=64, length=1e-4, P=2.0,
+                  surface="type = rough\nmethod = fourier\nhurst = 0.8\nrms_height = 1e-7\n"
+                          "seed = 1\n",
+                  column="Fx", amplitude=lambda P, mu: 0.5 * mu * P),
+}
+MU = 0.5
+
+
+def write_table(path, case, rows, split):
+    c = CASES[case]
+    P, amp = c["P"], c["amplitude"](c["P"], MU)
+    fz = lambda t: P * (1 + 0.3 * math.sin(2 * math.pi * t))
+    ft = lambda t: amp * math.cos(2 * math.pi * t)
+    with open(path, "w") as f:
+        f.write("time,Fz,%s\n" % c["column"])
+        t0 = -0.25
+        f.write("%.17g,%.17g,%.17g\n" % (t0, fz(t0), ft(t0)))
+        for j in range(1, 3 * rows + rows // 4 + 1):
+            a, b = -0.25 + (j - 1) / rows, -0.25 + j / rows
+            for k in range(1, split + 1):
+                w = k / split
+                t = b if k == split else a + w * (b - a)
+                z = fz(b) if k == split else (1 - w) * fz(a) + w * fz(b)
+                x = ft(b) if k == split else (1 - w) * ft(a) + w * ft(b)
+                f.write("%.17g,%.17g,%.17g\n" % (t, z, x))
+
+
+def write_scenario(path, case, table, tolerance):
+    c = CASES[case]
+    with open(path, "w") as f:
+        f.write("[material]\nE = 210e9\nnu = 0.3\nmu = %g\n" % MU)
+        f.write("[grid]\nn = %d\nlength = %g\n" % (c["n"], c["length"]))
+        f.write("[surface]\n" + c["surface"])
+        f.write("[load]\npath = table\ntable = %s\n" % table)
+        if c["column"] == "Ux":
+            f.write("control = displacement\n")
+        if tolerance:
+            f.write("tolerance = %g\n" % tolerance)
+        f.write("[solver]\nstiffness = none\n")
+
+
+def run(binary, work, case, rows, split, tolerance):
+    tag = "%s_%d_%d_%g" % (case, rows, split, tolerance)
+    table, ini, out = (os.path.join(work, tag + e) for e in (".csv", ".ini", "_out"))
+    write_table(table, case, rows, split)
+    write_scenario(ini, case, table, tolerance)
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run([binary, "run", ini, "--out", out, "--quiet"], check=True,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    with open(os.path.join(out, "cycles.csv")) as f:
+        cycle = [r for r in csv.DictReader(f) if r["cycle"] == "2"][0]
+    with open(os.path.join(out, "timeseries.csv")) as f:
+        conv = sum(int(float(r["convolutions"])) for r in csv.DictReader(f))
+    return float(cycle["dissipated_energy"]), cpu, conv, float(cycle["step_error"])
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("fretbem")
+    ap.add_argument("case", choices=sorted(CASES))
+    ap.add_argument("--rows", type=int, default=32)
+    ap.add_argument("--splits", default="1,2,4,8")
+    ap.add_argument("--tolerances", default="1e-2,1e-3,5e-4,1e-4")
+    ap.add_argument("--limit", type=float, help="known step limit (J): no fixed runs")
+    a = ap.parse_args()
+    splits = [int(s) for s in a.splits.split(",")]
+    tols = [float(t) for t in a.tolerances.split(",") if t]
+    with tempfile.TemporaryDirectory() as work:
+        fixed = {} if a.limit else {s: run(a.fretbem, work, a.case, a.rows, s, 0.0)
+                                    for s in splits}
+        if a.limit:
+            limit = a.limit
+            print("# %s, %d rows a period; limit %.6e J (given)" % (a.case, a.rows, limit))
+        else:
+            d1, d2 = fixed[splits[-2]][0], fixed[splits[-1]][0]
+            limit = d2 + (d2 - d1) / 3.0
+            print("# %s, %d rows a period; limit %.6e J (Richardson from splits %d, %d)"
+                  % (a.case, a.rows, limit, splits[-2], splits[-1]))
+        print("run,rows_per_period,dissipated_energy,error,cpu_s,convolutions,step_error")
+        for s in fixed:
+            d, cpu, conv, est = fixed[s]
+            print("fixed,%d,%.6e,%+.2e,%.1f,%d,%.2e" % (a.rows * s, d, d / limit - 1, cpu, conv,
+                                                        est))
+            sys.stdout.flush()
+        for t in tols:
+            d, cpu, conv, est = run(a.fretbem, work, a.case, a.rows, 1, t)
+            print("tolerance %g,%d,%.6e,%+.2e,%.1f,%d,%.2e" % (t, a.rows, d, d / limit - 1, cpu,
+                                                              conv, est))
+            sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()
