@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 
 #include "fretbem/run/run.hpp"
@@ -142,4 +143,54 @@ TEST(StepControl, ResumedRunRepeatsTheUninterruptedOne) {
   fs::remove_all(full);
   fs::remove_all(part);
   fs::remove(table);
+}
+
+namespace {
+
+// Dissipation over the second period under displacement control with the Cerruti operator:
+// F_z as above, U_x = 0.01 cos 2 pi t (partial slip of the unit sphere), 8 rows a period, each
+// interval split in `split` rows along its line. Checks every row's Coulomb limit and the
+// dissipation's growth on the way.
+double cerruti_displacement_dissipation(int split, const std::string& extra_load) {
+  const fs::path table = temp_path("cerruti" + std::to_string(split)) += ".csv";
+  {
+    std::ofstream out(table);
+    out << std::setprecision(17) << "time,Fz,Ux\n";
+    auto fz = [](double t) { return load_P() * (1 + 0.3 * std::sin(2 * M_PI * t)); };
+    auto ux = [](double t) { return 0.01 * std::cos(2 * M_PI * t); };
+    for (int r = 0; r <= 16 * split; ++r) {
+      const double t = double(r) / (8 * split), t0 = std::floor(t * 8) / 8, w = (t - t0) * 8;
+      out << t << "," << (1 - w) * fz(t0) + w * fz(t0 + 0.125) << ","
+          << (1 - w) * ux(t0) + w * ux(t0 + 0.125) << "\n";
+    }
+  }
+  const auto rows = fretbem_test::run_steps(fretbem_test::unit_sphere_ini(
+      24, "path = table\ncontrol = displacement\ntable = " + table.string() + "\n" + extra_load,
+      "[solver]\ntolerance = 1e-10\nstiffness = none\ncoupling = cerruti\n"));
+  fs::remove(table);
+  for (std::size_t k = 1; k < rows.size(); ++k) {
+    EXPECT_LE(std::hypot(rows[k].Fx, rows[k].Fy), kMu * rows[k].Fz * (1 + 1e-9)) << k;
+    EXPECT_GE(rows[k].dissipation, rows[k - 1].dissipation) << k;
+    EXPECT_TRUE(std::isfinite(rows[k].step_error)) << k;
+  }
+  return fretbem_test::cycle_energy(rows, 1).nodal;
+}
+
+}  // namespace
+
+// The same under displacement control with the Cerruti operator (two traction components):
+// the asked 1e-3 is met against the split table's limit (Richardson from 8 and 16 rows per
+// row), and every row stays within the Coulomb limit, its dissipation never decreasing.
+TEST(StepControl, MeetsTheToleranceUnderDisplacementControlWithCerruti) {
+  const double d8 = cerruti_displacement_dissipation(8, ""),
+               d16 = cerruti_displacement_dissipation(16, "");
+  const double limit = d16 + (d16 - d8) / 3.0;
+  // The reference is off by at most its Richardson correction, if the order were wrong: a
+  // tenth of the asked tolerance at most.
+  ASSERT_LT(std::abs(limit / d16 - 1), 1e-4);
+  const double fixed = cerruti_displacement_dissipation(1, "");
+  const double controlled = cerruti_displacement_dissipation(1, "tolerance = 1e-3\n");
+  std::printf("8 rows: fixed %+.3e, load.tolerance = 1e-3 %+.3e against the limit %.6e J\n",
+              fixed / limit - 1, controlled / limit - 1, limit);
+  EXPECT_LT(std::abs(controlled / limit - 1), 1e-3);
 }
