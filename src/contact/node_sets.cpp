@@ -86,10 +86,8 @@ double residual_impl(NodeSets& sets, const TangentialIncrement& inc, const VecFi
   const Field& g = *inc.bound;
   classify_impl<NC>(sets, g, tau);
   const Vec<NC> shift = mean_shift<NC>(sets, inc, u);
-  // One message for the pass's sums: stick2, slip2, gsum and the force components.
-  std::array<double, 3 + NC> sums{};
-  double &stick2 = sums[0], &slip2 = sums[1], &gsum = sums[2];
-  Eigen::Map<Vec<NC>> force(sums.data() + 3);
+  double stick2 = 0.0, slip2 = 0.0, gsum = 0.0;
+  Vec<NC> force = Vec<NC>::Zero();
   for (std::size_t j = 0; j < sets.contact.size(); ++j) {
     const Eigen::Index k = sets.contact[j];
     const Vec<NC> t = at<NC>(tau, k), s = shift - (at<NC>(u, k) - at<NC>(*inc.u0, k));
@@ -106,7 +104,12 @@ double residual_impl(NodeSets& sets, const TangentialIncrement& inc, const VecFi
       slip2 += s.squaredNorm();
     }
   }
+  // One message for the pass's sums (summed in locals: the loop keeps them in registers).
+  std::array<double, 3 + NC> sums{stick2, slip2, gsum};
+  Eigen::Map<Vec<NC>>(sums.data() + 3) = force;
   sets.comm->sum(sums);
+  stick2 = sums[0], slip2 = sums[1], gsum = sums[2];
+  force = Eigen::Map<Vec<NC>>(sums.data() + 3);
   dU = shift;
   stick_slip2 = stick2;
   double res = std::sqrt((stick2 + slip2) / std::max(1.0, double(sets.ncontact))) / scale;

@@ -291,16 +291,18 @@ class ProjectedCgSolver::Iteration {
     const auto& contact = w_.sets.contact;
     const auto& stick = w_.sets.stick;
     const VecField &d = s_.d_, &q = s_.q_;
-    // One message for the three sums: q . d, sum q and sum d per component.
-    Eigen::Matrix<double, NC, 3> sums = Eigen::Matrix<double, NC, 3>::Zero();
-    auto qd = sums.col(0), qsum = sums.col(1), dsum = sums.col(2);
+    Vec qd = Vec::Zero(), qsum = Vec::Zero(), dsum = Vec::Zero();
     for (std::size_t j = 0; j < contact.size(); ++j) {
       if (!stick[j]) continue;
       const Eigen::Index k = contact[j];
       for (int c = 0; c < NC; ++c)
         qd(c) += q[c](k) * d[c](k), qsum(c) += q[c](k), dsum(c) += d[c](k);
     }
+    // One message for the three sums.
+    Eigen::Matrix<double, NC, 3> sums;
+    sums << qd, qsum, dsum;
     w_.comm().sum(std::span<double>(sums.data(), sums.size()));
+    qd = sums.col(0), qsum = sums.col(1), dsum = sums.col(2);
     double den = qd.sum();
     if (w_.inc.control == TangentialControl::force)
       den -= qsum.dot(dsum) / double(std::max<std::int64_t>(1, w_.sets.nstick));

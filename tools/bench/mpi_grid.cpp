@@ -3,7 +3,9 @@
 // as the unit, of the serial convolution of the same grid measured in the same run on every
 // rank at once; the distributed convolution's split into moving rows (MPI_Alltoallv), the
 // FFTW-MPI transforms and, inside those, the two global transposes (timed alone); and one
-// cold Hertz normal solve (contact radius L/4, force control, 1e-10) distributed and serial.
+// cold Hertz normal solve (contact radius L/4, force control, 1e-10) distributed and serial,
+// then one Cattaneo increment on its pressure (projected CG from zero traction to
+// F_x = 0.5 mu F_z, force control, 1e-10, plain CG).
 // Medians over --repeats; wall times are the slowest rank's.
 //
 // Usage: mpirun -n K bench_mpi_grid [--min-n N] [--max-n N] [--repeats R] [--solve-max-n N]
@@ -15,6 +17,7 @@
 
 #include "bench_util.hpp"
 #include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/contact/tangential_solver.hpp"
 #include "fretbem/elastic/half_space.hpp"
 
 using namespace fretbem;
@@ -57,6 +60,25 @@ Field slab(const HalfSpace& hs, const Field& f) {
   return f.middleCols(hs.first_row(), hs.local_rows());
 }
 
+// One force-controlled increment from zero traction to F_x on the bounds g (serial) and gd
+// (this rank's slab): iterations and the slowest rank's wall seconds, serial then distributed.
+void cattaneo_increment(const Communicator& c, HalfSpace& serial, HalfSpace& dist, const Field& g,
+                        const Field& gd, double Fx) {
+  int its = 0, itd = 0;
+  auto solve = [&](HalfSpace& hs, const Field& bound, int& iterations) {
+    TangentialOperator op(hs, Vec2(1, 0));
+    ProjectedCgSolver solver(op, {1e-10, 5000, Precondition::off});
+    const VecField tau0 = op.zeros(), u0 = op.zeros();
+    VecField tau = tau0, u = u0;
+    const TangentialIncrement inc{&bound, &tau0, &u0, TangentialControl::force,
+                                  Eigen::VectorXd::Constant(1, Fx)};
+    iterations = solver.solve(inc, tau, u).iterations;
+  };
+  const double ts = timed(c, 1, [&] { solve(serial, g, its); });
+  const double td = timed(c, 1, [&] { solve(dist, gd, itd); });
+  if (c.rank() == 0) std::printf("  %4d %9.3f %4d %9.3f %6.3f", its, ts, itd, td, td / ts);
+}
+
 void row(const Communicator& c, int n, const Options& o) {
   const Material m{Body{210e9, 0.3}, std::nullopt, 0.3};
   const Grid g = Grid::square(n, 1e-3);
@@ -85,16 +107,12 @@ void row(const Communicator& c, int n, const Options& o) {
     NormalSolver ss(serial, opt), sd(dist, opt);
     const Field zd = slab(dist, z);
     NormalResult rs, rd;
-    const double ts = timed(c, 1, [&] {
-      Field q;
-      rs = ss.solve_force(z, force, q);
-    });
-    const double td = timed(c, 1, [&] {
-      Field q;
-      rd = sd.solve_force(zd, force, q);
-    });
+    Field ps, pd;
+    const double ts = timed(c, 1, [&] { rs = ss.solve_force(z, force, ps); });
+    const double td = timed(c, 1, [&] { rd = sd.solve_force(zd, force, pd); });
     if (c.rank() == 0)
       std::printf("  %4d %9.3f %4d %9.3f %6.3f", rs.iterations, ts, rd.iterations, td, td / ts);
+    cattaneo_increment(c, serial, dist, Field(m.mu * ps), Field(m.mu * pd), 0.5 * m.mu * force);
   }
   if (c.rank() == 0) std::printf("\n"), std::fflush(stdout);
 }
@@ -109,6 +127,7 @@ int main(int argc, char** argv) {
   if (c.rank() == 0)
     std::printf(
         "    n  K  serial_s  conv_s  ratio  moving_s  fftw_s  transposes_s  it_serial "
-        "solve_serial_s it_K solve_K_s ratio\n");
+        "solve_serial_s it_K solve_K_s ratio  tan_it_serial tan_serial_s tan_it_K tan_K_s "
+        "ratio\n");
   for (int n = o.min_n; n <= o.max_n; n *= 2) row(c, n, o);
 }
