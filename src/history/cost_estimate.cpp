@@ -28,11 +28,13 @@ std::size_t settled_from(const LoadPath& path) {
   return path.steps.size();
 }
 
-// Whether the Masing image may start steps (MasingImage::plan from the scenario alone, without
-// the path: counted wherever it could apply).
+// Whether the Masing image may start steps (MasingImage::plan from the scenario alone: a path
+// that can reverse, one traction component under the analogy, no wear, the predictor not
+// turned off; counted wherever it could apply).
 bool masing_possible(const Scenario& sc, bool two_components) {
-  return sc.solver.predictor != PredictorMode::none && sc.solver.coupling == Coupling::analogy &&
-         sc.wear.law == WearLaw::none && !two_components;
+  const bool reverses = sc.load.path == PathType::sine || sc.load.path == PathType::table;
+  return reverses && sc.solver.predictor != PredictorMode::none &&
+         sc.solver.coupling == Coupling::analogy && sc.wear.law == WearLaw::none && !two_components;
 }
 
 }  // namespace
