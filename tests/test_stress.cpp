@@ -10,12 +10,13 @@
 #include <iomanip>
 #include <sstream>
 
-#include "fretbem/core/errors.hpp"
-#include "fretbem/history/model.hpp"
 #include "fretbem/contact/normal_solver.hpp"
+#include "fretbem/contact/tangential_solver.hpp"
+#include "fretbem/core/errors.hpp"
+#include "fretbem/history/cost_estimate.hpp"
+#include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
 #include "fretbem/surface/surface.hpp"
-#include "fretbem/contact/tangential_solver.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -264,7 +265,7 @@ TEST(Stress, HugeGridRefusedBeforeAllocating) {
       "[material]\nE = 1\nnu = 0.3\n[grid]\nn = 16384\nlength = 1\n[surface]\ntype = flat\n"
       "[load]\nnormal_force = 1\n";
   const Scenario sc = parse_scenario(text, "huge", fs::temp_directory_path());
-  EXPECT_GT(estimated_peak_bytes(sc), 1.5e11);
+  EXPECT_GT(estimate_memory(sc, false).total(), 1.5e11);
   try {
     build_model(sc);
     ADD_FAILURE() << "no error for a 16384^2 grid";

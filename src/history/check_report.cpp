@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "fretbem/core/format.hpp"
+#include "fretbem/history/cost_estimate.hpp"
 #include "fretbem/history/preflight.hpp"
 #include "fretbem/surface/formats.hpp"
 
@@ -72,7 +73,8 @@ std::string check_report(const Model& m) {
     << "\n";
   if (sc.wear.law == WearLaw::none)
     o << "  " << m.path.steps.size() << " load steps (each one normal and one tangential solve)\n";
-  o << "  memory: about " << num(std::round(estimated_peak_bytes(sc) / (1 << 20))) << " MiB\n";
+  o << "  memory: about "
+    << num(std::round(estimate_memory(sc, m.cycle_predictor).total() / (1 << 20))) << " MiB\n";
   wear_lines(m, o);
   return o.str();
 }

@@ -1,7 +1,9 @@
-// Calibrated cost estimate of a stepped run (see cost_estimate.hpp).
+// The cost model of a run: its memory and its calibrated FFT convolutions (see
+// cost_estimate.hpp).
 #include "fretbem/history/cost_estimate.hpp"
 
 #include <cstdio>
+#include <string>
 
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/progress.hpp"
@@ -26,7 +28,42 @@ std::size_t settled_from(const LoadPath& path) {
   return path.steps.size();
 }
 
+// Whether the Masing image may start steps (MasingImage::plan from the scenario alone: a path
+// that can reverse, one traction component under the analogy, no wear, the predictor not
+// turned off; counted wherever it could apply).
+bool masing_possible(const Scenario& sc, bool two_components) {
+  const bool reverses = sc.load.path == PathType::sine || sc.load.path == PathType::table;
+  return reverses && sc.solver.predictor != PredictorMode::none &&
+         sc.solver.coupling == Coupling::analogy && sc.wear.law == WearLaw::none && !two_components;
+}
+
 }  // namespace
+
+MemoryEstimate estimate_memory(const Scenario& sc, bool cycle_predictor) {
+  const double cells = double(sc.grid.nx) * double(sc.grid.ny);
+  const bool two = sc.solver.coupling != Coupling::analogy || sc.load.direction != 0.0 ||
+                   sc.load.path == PathType::table;
+  MemoryEstimate m;
+  m.program = MemoryCosts::kProgramBytes;
+  m.solver = cells * (two ? MemoryCosts::kSolverTwoComponents : MemoryCosts::kSolverOneComponent);
+  // Two traction components double what the predictor remembers and starts from.
+  if (cycle_predictor) m.predictor = cells * MemoryCosts::kPredictor * (two ? 2.0 : 1.0);
+  if (masing_possible(sc, two)) m.masing = cells * MemoryCosts::kMasing;
+  return m;
+}
+
+ConvolutionMeter::ConvolutionMeter(const HalfSpace& half_space)
+    : half_space_(half_space),
+      cpu0_(process_cpu_seconds()),
+      convolutions0_(half_space.convolutions()) {}
+
+double ConvolutionMeter::seconds() const {
+  return process_cpu_seconds() - cpu0_;
+}
+
+double ConvolutionMeter::convolutions() const {
+  return double(half_space_.convolutions() - convolutions0_);
+}
 
 std::vector<double> step_cost_shares(const Model& model) {
   const std::size_t steps = model.path.steps.size(), settled = settled_from(model.path);
@@ -60,9 +97,9 @@ RunCostEstimate estimate_run_cost(const Scenario& sc) {
   // CPU time and convolutions of the solves alone (the operators' set-up excluded).
   double solve_seconds = 0.0, convolutions = 0.0, tangential = 0.0;
   auto timed = [&](std::size_t k) {
-    const double t = process_cpu_seconds();
+    const ConvolutionMeter meter(*model->half_space);
     const StepRecord r = stepper.advance(k);
-    solve_seconds += process_cpu_seconds() - t;
+    solve_seconds += meter.seconds();
     convolutions += r.convolutions;
     return double(r.convolutions);
   };

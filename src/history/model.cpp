@@ -9,6 +9,7 @@
 #include "fretbem/core/input_warning.hpp"
 #include "fretbem/core/resources.hpp"
 #include "fretbem/elastic/fft_wisdom.hpp"
+#include "fretbem/history/cost_estimate.hpp"
 #include "fretbem/history/cycle_predictor.hpp"
 #include "fretbem/history/preflight.hpp"
 
@@ -115,37 +116,19 @@ Field make_surface(const Scenario& sc) {
   return z;
 }
 
-// Peak RSS measured on the Cattaneo scenario (analogy, one tangential component, fields
-// written) was 44 MB at n = 256, 120 MB at n = 512, 427 MB at n = 1024 and 1.75 GiB at
-// n = 2048: 410-450 bytes per cell at large n (the padded FFT buffers and spectra, ~210 bytes
-// per cell, plus some 25 surface fields); Cerruti at n = 512: 186 MiB. The estimate takes 600
-// bytes per cell (1.4x the 2048 run), 900 when two tangential components or the Cerruti
-// spectra are needed, plus 64 MiB for the program.
-double estimated_peak_bytes(const Scenario& sc) {
-  const double cells = double(sc.grid.nx) * double(sc.grid.ny);
-  const bool two = sc.solver.coupling != Coupling::analogy || sc.load.direction != 0.0 ||
-                   sc.load.path == PathType::table;
-  // An explicit solver.predictor = cycle holds up to its bound; auto counts it only where it
-  // decides for it (use_cycle_predictor), so that it never refuses a grid the run could do.
-  const double predictor =
-      sc.solver.predictor == PredictorMode::cycle ? CyclePredictor::kBytesPerCell * cells : 0.0;
-  return (two ? 900.0 : 600.0) * cells + predictor + 64.0 * (1 << 20);
-}
-
 bool use_cycle_predictor(const Scenario& sc, const LoadPath& path) {
   if (sc.solver.predictor != PredictorMode::automatic)
     return sc.solver.predictor == PredictorMode::cycle;
   const std::vector<char> later = CyclePredictor::repeated_later(path.steps);
   if (std::find(later.begin(), later.end(), 1) == later.end()) return false;
-  const double cells = double(sc.grid.nx) * double(sc.grid.ny);
   const double have = usable_memory_bytes();
-  return have <= 0 || estimated_peak_bytes(sc) + CyclePredictor::kBytesPerCell * cells <= have;
+  return have <= 0 || estimate_memory(sc, true).total() <= have;
 }
 
 // Against what the process may use: inside a batch job (Slurm, containers) the cgroup limit is
 // smaller than the node's RAM, and exceeding it kills the job instead of failing cleanly.
-void check_memory(const Scenario& sc) {
-  const double have = usable_memory_bytes(), need = estimated_peak_bytes(sc);
+void check_memory(const Scenario& sc, bool cycle_predictor) {
+  const double have = usable_memory_bytes(), need = estimate_memory(sc, cycle_predictor).total();
   if (have <= 0 || need <= have) return;  // unknown: let the allocator decide
   std::ostringstream msg;
   msg.precision(3);
@@ -172,11 +155,11 @@ bool stiffness_wanted(const Model& model, int step, bool turning) {
 }
 
 std::unique_ptr<Model> prepare_model(const Scenario& sc) {
-  check_memory(sc);  // before the surface, kernels and FFT buffers are allocated
   auto m = std::make_unique<Model>();
   m->scenario = sc;
   m->path = make_load_path(sc);
   m->cycle_predictor = use_cycle_predictor(sc, m->path);
+  check_memory(sc, m->cycle_predictor);  // before the surface, kernels and FFT buffers
   m->surface0 = make_surface(sc);
   m->surface = m->surface0;
   check_before_solve(sc, m->path, m->surface0);

@@ -1,4 +1,6 @@
-// Calibrated cost estimate of a wear run (see cost_estimate.hpp).
+// Calibrated cost estimate of a wear run on the run's cost model (history/cost_estimate.hpp):
+// one steady cycle measured by its ConvolutionMeter, and the simulated cycles each integrator
+// needs (see cost_estimate.hpp).
 #include "fretbem/wear/cost_estimate.hpp"
 
 #include <algorithm>
@@ -7,6 +9,7 @@
 
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/progress.hpp"
+#include "fretbem/history/cost_estimate.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/wear/integrator.hpp"
 
@@ -84,13 +87,11 @@ WearCostEstimate estimate_wear_cost(const Scenario& sc) {
   auto model = build_model(sc);
   Stepper stepper(*model);
   WearCycles cycles(*model, stepper);
-  const double cpu1 = process_cpu_seconds();
-  const auto conv0 = model->half_space->convolutions();
+  const ConvolutionMeter meter(*model->half_space);
   cycles.start();
   const WearCycle c0 =
       cycles.steady(0.0, Field::Zero(model->scenario.grid.nx, model->scenario.grid.ny));
-  const double seconds = process_cpu_seconds() - cpu1;
-  const double conv = double(model->half_space->convolutions() - conv0);
+  const double seconds = meter.seconds(), conv = meter.convolutions();
   // Simulated cycles of one steady cycle (the ODE right-hand side): to the first turning point
   // from a traction-free state, then one period (docs/wear.md).
   const double per_evaluation = cycles.simulated();

@@ -1,9 +1,13 @@
-// What a run will cost, before it runs (`fretbem check`): the first steps of the
-// load path are solved at the scenario's grid (a calibration), their FFT convolutions per step
-// and CPU seconds per convolution are extrapolated to the whole path. Measured accuracy:
-// docs/reliability.md ("Accuracy of check's cost estimate").
+// The cost model of a run, one table for every estimate made before a run (the memory guard,
+// `fretbem check`, the progress ETA, the wear run's estimate in wear/cost_estimate.hpp):
+// - memory: bytes per grid cell of each group of arrays, plus the program (estimate_memory);
+// - time: FFT convolutions per step relative to a first step (step_cost_shares), counted and
+//   timed by a ConvolutionMeter on the first steps of the path solved at the scenario's grid
+//   (a calibration) and extrapolated to the whole path. Measured accuracy: docs/reliability.md
+//   ("Accuracy of check's cost estimate"), docs/performance.md ("Memory").
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -11,6 +15,59 @@
 #include "fretbem/scenario/scenario.hpp"
 
 namespace fretbem {
+
+/// Bytes of a run's peak memory by what holds them (bytes). Per grid cell, measured as peak RSS
+/// (docs/performance.md, "Memory"): the solver (FFT buffers and spectra of the padded grid,
+/// the interface state, solver work fields, output buffers), the cycle predictor and the
+/// Masing image (their tables and the heap they leave grown, MemoryCosts).
+struct MemoryEstimate {
+  double program = 0.0;    ///< libraries, FFTW and HDF5 state: independent of the grid
+  double solver = 0.0;     ///< every run
+  double predictor = 0.0;  ///< the cycle predictor (Model::cycle_predictor)
+  double masing = 0.0;     ///< the Masing image (where it can apply, MasingImage::plan)
+  double total() const { return program + solver + predictor + masing; }
+};
+
+/// The table of memory costs (bytes per grid cell unless stated).
+struct MemoryCosts {
+  /// Peak RSS of a run at n = 16 (nothing grid-sized to speak of): 24.4 MiB, rounded up.
+  static constexpr double kProgramBytes = 32.0 * (1 << 20);
+  /// One tangential component under the analogy: the Mindlin cycle with solver.predictor =
+  /// none measured 688 bytes per cell over the program at n = 512 (1 or 2 FFT threads, 8 or
+  /// 128 steps) and 684 at n = 1024, the Cattaneo ramp 357-441 at n = 512-2048: the larger,
+  /// rounded up.
+  static constexpr double kSolverOneComponent = 750.0;
+  /// Two tangential components or the Cerruti/coupled spectra: the Cattaneo ramp's 1.6x of
+  /// one component at n = 512, on the one-component figure.
+  static constexpr double kSolverTwoComponents = 1100.0;
+  /// The cycle predictor, measured as the peak RSS of a 2-cycle Mindlin run over the same run
+  /// with solver.predictor = none less the Masing image's share: 378 (n = 128) and 516
+  /// (n = 512) bytes per cell, far above its table's bound (CyclePredictor::kBytesPerCell):
+  /// the heap grows at the end of the first reversal (the path's second turning point) by
+  /// ~50 grid fields at n = 128 with the tables against ~18 without, and keeps that memory.
+  static constexpr double kPredictor = 600.0;
+  /// The Masing image (1-cycle Mindlin run over solver.predictor = none): 237 (n = 128) and
+  /// 308 (n = 512) bytes per cell, its table bound MasingImage::kBytesPerCell included.
+  static constexpr double kMasing = 350.0;
+};
+
+/// The memory a run of `sc` needs at its peak; `cycle_predictor` as use_cycle_predictor
+/// resolves solver.predictor for its path.
+MemoryEstimate estimate_memory(const Scenario& sc, bool cycle_predictor);
+
+/// CPU seconds and FFT convolutions of a half-space since construction: the one measurement the
+/// calibrations (a stepped run's here, a wear run's in wear/cost_estimate.hpp) extrapolate.
+class ConvolutionMeter {
+ public:
+  explicit ConvolutionMeter(const HalfSpace& half_space);
+  double seconds() const;       ///< CPU seconds (process_cpu_seconds) since construction
+  double convolutions() const;  ///< FFT convolutions since construction
+
+ private:
+  const HalfSpace& half_space_;
+  double cpu0_;
+  std::int64_t convolutions0_;
+};
 
 struct RunCostEstimate {
   double convolutions = 0.0;         ///< predicted FFT convolutions of the whole run
@@ -39,8 +96,8 @@ inline constexpr double kPredictedStepShare = 0.15;
 /// Each step's cost relative to a first tangential step (step 0 counts 1 too): 1 up to the
 /// path's second turning point, kSettledStepShare after it, kPredictedStepShare where the
 /// cycle predictor starts the step; a step the Masing image starts counts kSettledStepShare
-/// before the second turning point and kPredictedStepShare after it. What the estimate extrapolates with and what a run's
-/// progress ETA counts on.
+/// before the second turning point and kPredictedStepShare after it. What the estimate extrapolates
+/// with and what a run's progress ETA counts on.
 std::vector<double> step_cost_shares(const Model& model);
 
 /// Builds the model (operators included), solves the first steps and extrapolates: the

@@ -16,7 +16,7 @@ class CyclePredictor {
   /// Memory bound: at most this many bytes per grid cell for all remembered tractions (one
   /// component on the contact nodes of a Hertz cycle of 64 steps at 20 % contact: ~100; the
   /// node list is shared while the contact does not change). The memory guard adds it to the
-  /// run's estimate (estimated_peak_bytes).
+  /// run's estimate (estimate_memory, cost_estimate.hpp).
   static constexpr double kBytesPerCell = 128.0;
 
   /// For each step k of the path: whether the transition steps[k-1] -> steps[k] occurs again

@@ -47,17 +47,15 @@ std::unique_ptr<Model> prepare_model(const Scenario& sc);
 /// Builds the surface and operators. The tangential operator is one-component (no y-solve)
 /// when the coupling is the analogy and the path is collinear.
 std::unique_ptr<Model> build_model(const Scenario& sc);
-/// Upper estimate of the peak memory (bytes) of a run of this scenario, from the grid alone:
-/// calibrated on peak RSS measured with /usr/bin/time -v (docs/performance.md, "Memory").
-double estimated_peak_bytes(const Scenario& sc);
 /// solver.predictor resolved: cycle and none as said; auto: cycle when some transition of the
 /// path's load occurs again later (a periodic path) and the run's memory estimate with the
-/// predictor's bound (CyclePredictor::kBytesPerCell) still fits in the usable memory.
+/// predictor's memory (estimate_memory, cost_estimate.hpp) still fits in the usable memory.
 bool use_cycle_predictor(const Scenario& sc, const LoadPath& path);
-/// Throws InputError (one line) when the estimate exceeds the memory this process may use (the
-/// smaller of physical memory and its cgroup limit, core/resources.hpp): a grid
-/// that cannot fit is refused before anything large is allocated. build_model calls it.
-void check_memory(const Scenario& sc);
+/// Throws InputError (one line) when the memory estimate (estimate_memory, with the cycle
+/// predictor as resolved) exceeds the memory this process may use (the smaller of physical
+/// memory and its cgroup limit, core/resources.hpp): a grid that cannot fit is refused before
+/// anything large is allocated. prepare_model calls it.
+void check_memory(const Scenario& sc, bool cycle_predictor);
 /// FFT threads: one below n = 512 whatever solver.threads asks (threads cost more than they
 /// save on small grids); from there solver.threads, all usable CPUs (usable_cpus) for 0.
 int fft_threads(const SolverSpec& solver, const Grid& grid);
