@@ -2,6 +2,7 @@
 // node's history within the step (evolving): the increment is solved again with mu_1 p_1, mu_1
 // from the history at the step's end by the work's trapezoid, until the bound it ends on is the
 // one it was solved with (docs/algorithms.md, "Evolving friction").
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -16,10 +17,10 @@ namespace {
 // (measured on the Hertz cycle of docs/algorithms.md, "Evolving friction": 0.15-0.5 per
 // re-solve).
 constexpr int kMaxSettles = 50;
-// A re-solve that shrinks the change by less than this has met the floor set by the solve
-// itself: slips carry the solver's error (up to the slip threshold per node) and nodes near
-// it flip between slipping and stuck, which the bound follows (measured: a floor of 2e-8 to
-// 7e-8 of max g at the default tolerance, the change then shrinking by 0.95 per re-solve).
+// A re-solve that shrinks the change by less than this does not contract: nodes at the slip
+// front flip between slipping (X grows, g rises) and stuck (g stays), and the bound alternates
+// between the two. The step towards g_1 is then halved each time, which settles the bound
+// between them (a flipping node sits where its slip is at the threshold).
 constexpr double kFloorRatio = 0.9;
 
 }  // namespace
@@ -63,25 +64,30 @@ StepSlip Stepper::step_slip(const VecField& u0, const VecField& tau0, const Eige
 }
 
 // Solves the increment again while the law moves the bound it ends on (by more than the solver
-// tolerance, relative to max g); returns the iterations of the re-solves. A bound that stops
-// settling at more than sqrt(tolerance) (1e-4 at the default: far above the solve's own floor)
-// or after kMaxSettles re-solves is an error naming the step.
+// tolerance relative to max g; under Coupling::coupled by more than the coupling tolerance, to
+// which the alternation that calls this converges p and tau); returns the iterations of the
+// re-solves. A bound still moving by more than sqrt(tolerance) (1e-4 at the default: far above
+// the solve's own floor) after kMaxSettles re-solves is an error naming the step.
 int Stepper::settle_bound(const TangentialIncrement& inc, const VecField& tau0, TangentialResult& r,
                           StepRecord& rec) {
   const FrictionLaw& law = *model_.friction;
   if (!law.settles_within_step() || bound_start_.size() != bound_.size()) return 0;
-  const double tol = model_.scenario.solver.tolerance;
+  const SolverSpec& sv = model_.scenario.solver;
+  const double tol = model_.half_space->cross_coupled()
+                         ? std::max(sv.tolerance, sv.coupling_tolerance)
+                         : sv.tolerance;
   int iterations = 0;
   Field g1;
-  double previous = 0.0;
+  double previous = 0.0, omega = 1.0;
   for (int m = 0;; ++m) {
     law.end_bound(state_, step_slip(*inc.u0, tau0, r.shift), g1);
     const double scale = g1.maxCoeff();
     const double change = scale > 0.0 ? (g1 - bound_).abs().maxCoeff() / scale : 0.0;
     if (change <= tol) break;
-    const bool floor = m > 0 && change > kFloorRatio * previous;
-    if (floor && change <= std::sqrt(tol)) break;
-    if (floor || m == kMaxSettles) {
+    if (m > 0 && change > kFloorRatio * previous) omega *= 0.5;
+    if (omega * change <= tol) break;
+    if (m == kMaxSettles) {
+      if (change <= std::sqrt(tol)) break;
       FailedSolve f;
       f.solve = "tangential";
       f.control = inc.control == TangentialControl::force ? "force" : "displacement";
@@ -94,7 +100,7 @@ int Stepper::settle_bound(const TangentialIncrement& inc, const VecField& tau0, 
       fail(rec, SolverError(msg.str()), std::move(f));
     }
     previous = change;
-    bound_.swap(g1);
+    bound_ += omega * (g1 - bound_);
     r = solve_increment(inc, tau0, *inc.u0, rec);
     iterations += r.iterations;
   }
