@@ -170,6 +170,25 @@ TEST(FrictionLaw, EvolvingSlidingConvergesAtSecondOrderInTheStep) {
   }
 }
 
+// Evolving mu under the normal-tangential coupling (steel ball on a rigid flat, beta = 0.286,
+// +-0.6 mu_0 F_z, 16 steps per period): at the slip front nodes flip between slipping and
+// stuck as the settling bound moves, and the bound alternated by 2 % at step 2 until the step
+// towards it was halved. The run settles every step and keeps the invariants: |F_x| within
+// mu_final F_z, the dissipation never falling.
+TEST(FrictionLaw, EvolvingCoupledCycleSettles) {
+  const std::string text = fretbem_test::kSteelSphere32 +
+                           "path = sine\ncontrol = force\namplitude = 0.6\ncycles = 1\n"
+                           "steps_per_cycle = 16\n[solver]\ncoupling = coupled\nstiffness = false\n"
+                           "[friction]\nlaw = evolving\nmu_final = 0.7\nscale = 5\n";
+  const auto rows = run(text);
+  ASSERT_EQ(rows.size(), 17u);
+  for (std::size_t k = 1; k < rows.size(); ++k) {
+    ASSERT_TRUE(std::isfinite(rows[k].Fx) && std::isfinite(rows[k].dissipation)) << k;
+    EXPECT_LE(std::abs(rows[k].Fx), 0.7 * rows[k].Fz * (1 + 1e-9)) << k;
+    EXPECT_GE(rows[k].dissipation, rows[k - 1].dissipation) << k;
+  }
+}
+
 TEST(FrictionLaw, ForceAmplitudeAboveTheLowestMuIsRefused) {
   const std::string load = "path = sine\ncontrol = force\namplitude = 0.7\ncycles = 1";
   try {
