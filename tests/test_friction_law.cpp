@@ -172,8 +172,8 @@ TEST(FrictionLaw, EvolvingSlidingConvergesAtSecondOrderInTheStep) {
 
 // Evolving mu under the normal-tangential coupling (steel ball on a rigid flat, beta = 0.286,
 // +-0.6 mu_0 F_z, 16 steps per period): at the slip front nodes flip between slipping and
-// stuck as the settling bound moves, and the bound alternated by 2 % at step 2 until the step
-// towards it was halved. The run settles every step and keeps the invariants: |F_x| within
+// stuck as the settling bound moves, and the bound alternates by 2 % at step 2 unless the step
+// towards it is halved. The run settles every step and keeps the invariants: |F_x| within
 // mu_final F_z, the dissipation never falling.
 TEST(FrictionLaw, EvolvingCoupledCycleSettles) {
   const std::string text = fretbem_test::kSteelSphere32 +
