@@ -147,7 +147,13 @@ class ProjectedCgSolver::Iteration {
     if (G_ > 0.0) {
       s_.op_.apply(s_.d_, s_.q_);
       const double den = curvature();
-      if (den > 0.0) alpha = num / den;
+      // No curvature along a descent direction (the mean mode of a periodic grid, whose
+      // kernels have none: a uniform traction moves nothing): the objective falls linearly,
+      // so the step goes as far as the stick nodes' discs allow.
+      if (den > 0.0)
+        alpha = num / den;
+      else if (num > 0.0)
+        alpha = feasible_step();
     }
     save_iterate();
     bool changed = projected_step(alpha, false);

@@ -62,6 +62,7 @@ bool Stepper::coupled_step(const LoadStep& ls, StepRecord& rec) {
     normal_iterations += rec.normal_iterations;
     hs.tangential_of_pressure(state_.pressure, w[0], w[1]);
     for (int c = 0; c < 2; ++c) u0w[c] = u0[c] - (w[c] - pressure_slip_[c]);
+    bound_start_ = bound0, pressure_start_ = pressure0;  // settle_bound's start of the step
     r = coupled_tangential(ls, tau0, u0w, rec);
     tangential_iterations += r.iterations;
     const double dp = relative_change({state_.pressure}, {p_prev}, state_.pressure);
@@ -106,7 +107,10 @@ TangentialResult Stepper::coupled_tangential(const LoadStep& ls, const VecField&
   inc.tau0 = &tau0;
   inc.u0 = &u0;
   set_target(ls, inc);
-  return solve_increment(inc, tau0, u0, rec);
+  TangentialResult r = solve_increment(inc, tau0, u0, rec);
+  const int iterations = r.iterations;
+  r.iterations = iterations + settle_bound(inc, tau0, r, rec);
+  return r;
 }
 
 }  // namespace fretbem

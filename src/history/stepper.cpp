@@ -191,10 +191,16 @@ void Stepper::solve_normal(const LoadStep& ls, const Field& z, StepRecord& rec) 
   rec.normal_residual = r.residual;
 }
 
-// A friction law that evolves moves the bound between steps (never within one: the increment
-// stays convex). Returns whether it changed; the step's bound then counts as fixed, so the
-// dissipation takes tau . s (no trapezoid: nothing moved within the step).
+// A friction law that evolves moves the bound between steps: static/kinetic from the last
+// step's states (the step's bound then counts as fixed, the dissipation takes g |s|); a law
+// that settles its bound within the step (evolving) starts it from the last step's end and
+// takes the trapezoid (settle_bound). Returns whether the bound changed.
 bool Stepper::friction_step() {
+  if (model_.friction->settles_within_step()) {
+    // The bound moves within the step (settle_bound): its start is the last step's end.
+    bound_start_ = bound_, pressure_start_ = state_.pressure;
+    bound_moved_ = true, load_moved_ = false;
+  }
   Field g;
   model_.friction->bound(state_, g);
   if ((g == bound_).all()) return false;
@@ -238,6 +244,7 @@ bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
     r = solve_increment(inc, tau0, u0e, rec);
     iterations += r.iterations;
   }
+  iterations += settle_bound(inc, tau0, r, rec);
   rec.tangential_iterations = iterations;
   rec.tangential_residual = r.residual;
   state_.shift += op.to_global(r.shift);
@@ -324,19 +331,8 @@ void Stepper::accumulate_slip(const VecField& u0, const VecField* tau0, const Ei
                               StepRecord&) {
   const int nc = int(state_.traction.size());
   const Eigen::Index n = bound_.size();
-  VecField s(nc, Field(bound_.rows(), bound_.cols()));
-  work_.slip.resize(bound_.rows(), bound_.cols());  // |s| of the step, before the classification
-  for (Eigen::Index k = 0; k < n; ++k) {
-    double len2 = 0.0;
-    for (int c = 0; c < nc; ++c) {
-      const double sc = dU(c) - (state_.displacement[c](k) - u0[c](k));
-      s[c](k) = sc, len2 += sc * sc;
-    }
-    work_.slip(k) = len2;
-  }
-  // The roots in one vectorised pass: a root per cell inside the loop above stalled it (a third
-  // of the function's time in a steady n = 256 cycle, perf annotate).
-  work_.slip = work_.slip.sqrt();
+  VecField s;
+  step_slip_vectors(u0, dU, s);  // |s| of the step, before the classification
   const bool moving = bound_moved_ && tau0 && bound_start_.size() == bound_.size();
   const StateField before = moving ? state_.state : StateField();
   state_.classify(bound_, model_.scenario.solver.tolerance, work_.slip, slip_threshold());
@@ -353,6 +349,9 @@ void Stepper::accumulate_slip(const VecField& u0, const VecField* tau0, const Ei
     state_.slip_path(k) += work_.slip(k) * slipping;
     state_.dissipation(k) += work_.work(k);
   }
+  // The bound the next step starts from is the law's at the history just booked (the settled
+  // bound to round-off).
+  if (model_.friction->settles_within_step()) model_.friction->bound(state_, bound_);
   const double h2 = model_.half_space->grid().cell_area();
   dissipation_ += work_.work.sum() * h2;
   if (!model_.wear) return;  // no wear arithmetic without a wear law

@@ -24,6 +24,14 @@ struct StepStart {
   const VecField& traction;  ///< tau0 (Pa), operator components
 };
 
+/// The weights (w0, w1) of node k's bound (and pressure) at the step's start and end along its
+/// slip of length `len`, by the rules of step_work below: its work is (w0 g0 + w1 g1) len.
+struct BoundWeights {
+  double start = 0.0, end = 0.0;
+};
+BoundWeights bound_weights(const StepStart* start, const InterfaceState& end, const Field& bound,
+                           const VecField& s, double len, Eigen::Index k);
+
 /// The pressure along the slip and the work of a step that ended in `end` (classified, bound
 /// g1 = `bound`) with slip increments `s` (m, operator components); `out.slip` holds every
 /// node's slip length |s| on entry. A slipping node carries its bound and its traction is

@@ -1,7 +1,9 @@
 // Friction laws: the Coulomb bound g_i = mu_i p_i of every node (docs/architecture.md, "Laws are
 // small interfaces"). The stepper asks the law for the bound before each step and keeps it fixed
-// within the step, so every increment stays the convex problem of docs/algorithms.md; the law
-// may change mu_i between steps from the node's history. Nothing else knows which law is in use.
+// within each solve, so every increment stays the convex problem of docs/algorithms.md; the law
+// may change mu_i between steps from the node's history, lower it where a node slips
+// (after_slip) or set the bound the step ends on from its slip (end_bound), the increment then
+// solved again. Nothing else knows which law is in use.
 #pragma once
 
 #include <algorithm>
@@ -11,6 +13,15 @@
 #include "fretbem/scenario/scenario.hpp"
 
 namespace fretbem {
+
+/// One step's slip, per node, split by the quadrature of the bound along it
+/// (contact/step_work.hpp): the node's frictional work in the step is
+/// start_work + mu_1 end_pressure_slip, mu_1 its coefficient at the step's end.
+struct StepSlip {
+  Field path;               ///< |s| of the nodes that slip in the step, 0 elsewhere (m)
+  Field start_work;         ///< w0 g0 |s|: the share of the bound at the step's start (J/m^2)
+  Field end_pressure_slip;  ///< w1 p1 |s| (N/m)
+};
 
 class FrictionLaw {
  public:
@@ -30,6 +41,14 @@ class FrictionLaw {
                           Field& /*g*/) const {
     return false;
   }
+  /// After a tangential increment, for a law whose mu follows the node's history within the
+  /// step (evolving): g = mu_1 p_1, the bound at the step's end given the step's slip (the
+  /// stepper solves the increment again with it until it stops moving). `state` holds the
+  /// step's end pressure p_1 and the history at its start.
+  virtual void end_bound(const InterfaceState& /*state*/, const StepSlip& /*step*/,
+                         Field& /*g*/) const {}
+  /// True for laws with end_bound: their bound at a step's end is solved for with the step.
+  virtual bool settles_within_step() const { return false; }
 };
 
 /// Coulomb with constant mu (the default): g = mu p.
@@ -68,15 +87,22 @@ class StaticKineticFriction final : public FrictionLaw {
 
 /// Running-in: mu = mu_0 + (mu_final - mu_0) (1 - exp(-X / scale)) per node, X its accumulated
 /// dissipated energy density or slip path (a saturating law; Fouvry et al. report mu rising
-/// from ~0.2 to ~0.8 over the first hundreds to thousands of fretting cycles).
+/// from ~0.2 to ~0.8 over the first hundreds to thousands of fretting cycles). A step ends on
+/// mu(X_1), X_1 the history at its end with the step's work by the trapezoid of the bound
+/// (implicit: second order in the step, docs/algorithms.md, "Evolving friction").
 class EvolvingFriction final : public FrictionLaw {
  public:
   EvolvingFriction(double mu0, const FrictionSpec& spec) : mu0_(mu0), spec_(spec) {}
   void bound(const InterfaceState& state, Field& g) const override;
   bool evolves() const override { return true; }
   double min_mu() const override { return std::min(mu0_, spec_.mu_final); }
+  void end_bound(const InterfaceState& state, const StepSlip& step, Field& g) const override;
+  bool settles_within_step() const override { return true; }
 
  private:
+  double mu(double x) const;
+  /// X_1 = X_0 + a + b mu(X_1) (the work's trapezoid) for the dissipation variable.
+  double dissipation_at_end(double x0, double a, double b) const;
   double mu0_;
   FrictionSpec spec_;
 };

@@ -88,6 +88,10 @@ class Stepper {
   TangentialResult solve_increment(const TangentialIncrement& inc, const VecField& tau0,
                                    const VecField& u0, StepRecord& rec);
   bool bound_after_slip(const VecField& u0, const Eigen::VectorXd& shift);
+  void step_slip_vectors(const VecField& u0, const Eigen::VectorXd& dU, VecField& s);
+  StepSlip step_slip(const VecField& u0, const VecField& tau0, const Eigen::VectorXd& dU);
+  int settle_bound(const TangentialIncrement& inc, const VecField& tau0, TangentialResult& r,
+                   StepRecord& rec);
   bool tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec);
   Field gap_start();
   bool shortcut_applies(std::size_t k) const;
