@@ -88,10 +88,11 @@ inline constexpr double kCalibrationSeconds = 1.0;
 /// 0.45 (Mindlin n = 64), 0.53 (n = 128), 0.59 (rough cycle n = 128), docs/reliability.md.
 inline constexpr double kSettledStepShare = 0.5;
 /// Cost of a step the cycle predictor starts (Model::cycle_predictor, a load transition seen
-/// before) relative to the first steps: bench_cycle n = 256, 541 convolutions in cycle 2 and
-/// 192 from cycle 3 on against ~18 per first step (64 steps): 0.47 and 0.17; the shipped
-/// cyclic scenarios at n = 32 (test_cost_estimate) put the mean near 0.15.
-inline constexpr double kPredictedStepShare = 0.15;
+/// before) relative to the first steps: such a step usually meets the tolerance from its start
+/// and costs one product. bench_cycle n = 256: 72 convolutions in cycle 2 and 64-76 from cycle 3
+/// on against ~20 per first step (64 steps): 0.05-0.06; the shipped cyclic scenarios at n = 32
+/// and the n = 64 Mindlin loop's ETA (test_cost_estimate) put the mean near 0.04.
+inline constexpr double kPredictedStepShare = 0.04;
 
 /// Each step's cost relative to a first tangential step (step 0 counts 1 too): 1 up to the
 /// path's second turning point, kSettledStepShare after it, kPredictedStepShare where the
