@@ -7,13 +7,15 @@ usage: tools/bench/peak_memory.py BINARY LABEL SCENARIO [section.key=value ...]
 
 Prints one tab-separated line: label, exit code, the estimate and the peak RSS (MiB, the
 child's own ru_maxrss from wait4), their ratio, CPU and wall seconds, and the load average.
-The run writes to /tmp/fretbem-peak-memory/LABEL (replaced).
+The run writes to fretbem-peak-memory/LABEL in the temporary folder ($TMPDIR, else the
+system's; replaced).
 """
 import os
 import re
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 
 
@@ -24,7 +26,7 @@ def main(argv):
         stop_after = ["--stop-after", argv[i + 1]]
         del argv[i:i + 2]
     binary, label, scenario, *sets = argv
-    out = os.path.join("/tmp/fretbem-peak-memory", label)
+    out = os.path.join(tempfile.gettempdir(), "fretbem-peak-memory", label)
     shutil.rmtree(out, ignore_errors=True)
     set_args = [a for s in sets for a in ("--set", s)]
     check = subprocess.run([binary, "check", scenario, *set_args, "--no-estimate"],
