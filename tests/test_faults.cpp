@@ -536,6 +536,66 @@ TEST_F(Faults, CheckpointWithOldFormatNameResumes) {
   expect_same_rows(full(), part);
 }
 
+namespace {
+
+// DIR/NAME.csv without its last column, as a fretbem without that column wrote it.
+void drop_last_csv_column(const fs::path& csv) {
+  std::ifstream in(csv);
+  std::string line, kept;
+  while (std::getline(in, line)) kept += line.substr(0, line.rfind(',')) + "\n";
+  in.close();
+  std::ofstream(csv, std::ios::trunc) << kept;
+}
+
+// result.h5's /timeseries without its last column (a plain 2-D dataset, as an extendable one
+// reads the same).
+void drop_last_timeseries_column(const fs::path& h5) {
+  const hid_t f = H5Fopen(h5.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const hid_t d = H5Dopen2(f, "timeseries", H5P_DEFAULT);
+  const hid_t s = H5Dget_space(d);
+  hsize_t dims[2] = {0, 0};
+  H5Sget_simple_extent_dims(s, dims, nullptr);
+  std::vector<double> all(dims[0] * dims[1]), kept;
+  H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, all.data());
+  H5Sclose(s), H5Dclose(d);
+  for (hsize_t r = 0; r < dims[0]; ++r)
+    kept.insert(kept.end(), all.begin() + long(r * dims[1]),
+                all.begin() + long((r + 1) * dims[1] - 1));
+  H5Ldelete(f, "timeseries", H5P_DEFAULT);
+  const hsize_t shape[2] = {dims[0], dims[1] - 1};
+  const hid_t s2 = H5Screate_simple(2, shape, nullptr);
+  const hid_t d2 =
+      H5Dcreate2(f, "timeseries", H5T_IEEE_F64LE, s2, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(H5Dwrite(d2, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, kept.data()), 0);
+  H5Dclose(d2), H5Sclose(s2);
+  ASSERT_GE(H5Fclose(f), 0);
+}
+
+}  // namespace
+
+// A run stopped by a fretbem without the step_error column (load.tolerance) resumes: its rows
+// get step_error 0, the value of a run without step control, the files are continued under
+// today's header, the saved fields are kept, and the rows are the uninterrupted run's.
+TEST_F(Faults, RunStoppedBeforeTheStepErrorColumnResumes) {
+  const fs::path part = dir_ / "part";
+  ASSERT_EQ(run("run " + kScenario + kQuick + " --stop-after 20 --out " + part.string(), dir_).code,
+            0);
+  ASSERT_EQ(rows_of(part / "timeseries.csv")[0].back(), "step_error");
+  drop_last_csv_column(part / "timeseries.csv");
+  drop_last_csv_column(part / "cycles.csv");
+  drop_last_timeseries_column(part / "result.h5");
+  const Result r = run("run --resume " + part.string() + " --quiet", dir_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.find("rebuilt"), std::string::npos) << r.err;  // result.h5 was whole
+  EXPECT_FALSE(fs::exists(part / "result.h5.damaged"));
+  expect_same_rows(full(), part);
+  expect_same_csv(full(), part, "cycles.csv");
+  EXPECT_EQ(count_groups(part / "result.h5", "/fields"),
+            count_groups(full() / "result.h5", "/fields"));
+  EXPECT_FALSE(fs::exists(part / "timeseries.resume.csv"));
+}
+
 // A bound that moves with the state (static_kinetic at a varying normal load; evolving
 // friction under Coupling::coupled): the step's dissipation quadrature starts from the bound
 // the last step ended with, which is not recomputable from the state after it. The resumed

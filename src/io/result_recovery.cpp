@@ -11,6 +11,7 @@
 #include "fretbem/core/csv_reader.hpp"
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/hdf5.hpp"
+#include "fretbem/io/csv_writer.hpp"
 #include "fretbem/io/run_output.hpp"
 
 namespace fretbem {
@@ -96,22 +97,51 @@ std::vector<std::string> numbered_groups(hid_t file, const std::string& parent,
   return out;
 }
 
-csv::Table read_checked_csv(const fs::path& csv_path, std::size_t rows) {
+// timeseries.csv as the first `rows` rows under today's columns, and how many columns the
+// file has. A run written before load.tolerance existed has today's columns but the last,
+// step_error, whose value in such a run is 0 (nothing was estimated): its rows get that 0.
+// Earlier files lack columns whose values were never recorded, and are refused.
+struct CheckedCsv {
+  csv::Table table;
+  std::size_t file_columns = 0;
+};
+
+// An earlier fretbem's timeseries.csv under today's header, replaced atomically, so that the
+// resumed rows can be appended to it.
+void rewrite_with_todays_columns(const fs::path& csv_path, const csv::Table& table) {
+  const fs::path dir = csv_path.parent_path();
+  const std::string staged = csv_path.stem().string() + ".resume";
+  {
+    io::CsvWriter out(dir, staged, table.columns);
+    for (const auto& row : table.rows) out.row(row);
+  }
+  fs::rename(dir / (staged + ".csv"), csv_path);
+}
+
+CheckedCsv read_checked_csv(const fs::path& csv_path, std::size_t rows) {
   std::error_code ec;
   if (!fs::is_regular_file(csv_path, ec)) refuse(csv_path, "missing");
-  auto table = csv::read_table(csv_path, {.allow_nan = true, .max_rows = rows});
-  if (table.columns != StepRecord::columns())
+  CheckedCsv c{csv::read_table(csv_path, {.allow_nan = true, .max_rows = rows}), 0};
+  const auto& today = StepRecord::columns();
+  c.file_columns = c.table.columns.size();
+  const bool before_step_control =
+      today.back() == "step_error" && c.file_columns + 1 == today.size() &&
+      std::equal(c.table.columns.begin(), c.table.columns.end(), today.begin());
+  if (c.table.columns != today && !before_step_control)
     refuse(csv_path, "not this fretbem's time-series columns");
-  if (table.rows.size() < rows)
-    refuse(csv_path, "has " + std::to_string(table.rows.size()) +
+  if (c.table.rows.size() < rows)
+    refuse(csv_path, "has " + std::to_string(c.table.rows.size()) +
                          " rows but the checkpoint is after " + std::to_string(rows));
-  return table;
+  if (c.file_columns == today.size()) return c;
+  for (auto& row : c.table.rows) row.push_back(0.0);
+  c.table.columns = today;
+  return c;
 }
 
 // The old file's run id and rows, where readable, must be the checkpoint's and the CSV's.
 // Returns what of it is unreadable (then lost).
 std::vector<std::string> check_old_file(hid_t old, const fs::path& h5, const fs::path& csv_path,
-                                        const csv::Table& table, const std::string& run_id,
+                                        const CheckedCsv& checked, const std::string& run_id,
                                         std::size_t rows) {
   std::vector<std::string> lost;
   const auto id = read_text(old, "run_id");
@@ -119,7 +149,9 @@ std::vector<std::string> check_old_file(hid_t old, const fs::path& h5, const fs:
     refuse(h5, "run id " + *id + " is not the checkpoint's " + run_id +
                    " (the outputs belong to another run)");
   if (!id) lost.push_back("its /run_id is unreadable");
-  const std::size_t cols = table.columns.size();
+  // An earlier fretbem's /timeseries has the columns its timeseries.csv had.
+  const csv::Table& table = checked.table;
+  const std::size_t cols = checked.file_columns;
   const auto ref = read_rows(old, rows, cols);
   if (!ref) {
     lost.push_back("its /timeseries is stale or unreadable");
@@ -141,7 +173,8 @@ std::string prepare_result_for_resume(const fs::path& dir, const Model& model,
   const fs::path h5 = dir / io::Hdf5Writer::file_name, csv_path = dir / "timeseries.csv";
   std::error_code ec;
   if (!fs::is_regular_file(h5, ec)) refuse(h5, "missing");
-  const csv::Table table = read_checked_csv(csv_path, extent.rows);
+  const CheckedCsv checked = read_checked_csv(csv_path, extent.rows);
+  const csv::Table& table = checked.table;
 
   std::vector<std::string> lost, groups;
   {
@@ -152,7 +185,7 @@ std::string prepare_result_for_resume(const fs::path& dir, const Model& model,
           "it cannot be opened (torn by a kill or a full disk), its field groups are "
           "lost");
     } else {
-      lost = check_old_file(old.get(), h5, csv_path, table, run_id, extent.rows);
+      lost = check_old_file(old.get(), h5, csv_path, checked, run_id, extent.rows);
       groups = numbered_groups(old.get(), "/fields", "step_", extent.field_steps, lost);
       const auto snaps = numbered_groups(old.get(), "/wear", "snapshot_", extent.snapshots, lost);
       groups.insert(groups.end(), snaps.begin(), snaps.end());
@@ -181,6 +214,7 @@ std::string prepare_result_for_resume(const fs::path& dir, const Model& model,
   else
     fs::rename(h5, kept);
   fs::rename(dir / fresh_name, h5);
+  if (checked.file_columns < table.columns.size()) rewrite_with_todays_columns(csv_path, table);
   if (lost.empty()) return "";
   std::string why;
   for (const auto& l : lost) why += (why.empty() ? "" : "; ") + l;

@@ -45,8 +45,9 @@ int run_steps(Model& model, Stepper& stepper, long resume_rows, const RunOptions
   const auto& dir = model.scenario.output.dir;
   TimeseriesCsv csv(dir, resume_rows);
   ResultFile h5(dir, model, resume_rows);
-  CycleSummary cycles(dir, model.scenario.load.path, model.scenario.grid.h,
-                      resume_rows >= 0 ? 0 : -1);
+  // cycles.csv is written whole: a resumed run rebuilds its rows from the time series (below),
+  // under today's header.
+  CycleSummary cycles(dir, model.scenario.load.path, model.scenario.grid.h);
   Checkpointer checkpoint(dir, stepper, model.scenario.output.checkpoint_every);
   ProgressLine progress(model);
   ResolutionReport resolution;
