@@ -3,9 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
-#include <random>
 
 #include "fretbem/wear/preconditioner.hpp"
+#include "support/worn_disc.hpp"
 
 using namespace fretbem;
 
@@ -48,18 +48,8 @@ TEST(WearPreconditioner, SolvesTheFrozenSlipNewtonMatrixExactly) {
   Material mat;
   mat.body1 = {210e9, 0.3};
   HalfSpace hs(g, mat, Coupling::analogy);
-  std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> uni(0.0, 1.0);
-  // A disc of contact; wear per cycle k p S (k = 5e-14 1/Pa) with S up to 0.2 um in an outer
-  // annulus, so that gamma d / C(0,0) spans 0 ... ~10^2 for gamma = 0 ... 1e5 cycles.
-  Field p = g.zeros(), w = g.zeros(), b(g.nx, g.ny);
-  for (int i = 0; i < g.nx; ++i)
-    for (int j = 0; j < g.ny; ++j) {
-      const double r2 = (g.x(i) * g.x(i) + g.y(j) * g.y(j)) / (4e-5 * 4e-5);
-      if (r2 < 1.0) p(i, j) = 1e9 * std::sqrt(1.0 - r2);
-      if (r2 > 0.4 && r2 < 1.0) w(i, j) = 5e-14 * p(i, j) * 2e-7 * r2;
-      b(i, j) = uni(rng) - 0.5;
-    }
+  const fretbem_test::WornDisc disc = fretbem_test::worn_disc(g);
+  const Field &p = disc.pressure, &w = disc.wear_per_cycle, &b = disc.rhs;
   for (const bool force_control : {true, false})
     for (const double gamma : {0.0, 1e3, 1e5}) {
       WearPreconditioner pre(hs, force_control, 1e-12);

@@ -44,7 +44,8 @@ fretbem_build
 # The build above has MPI; the other side of the MPI-dependent files must compile too. A
 # second full build without MPI would double CI's time for a few #ifdefs: check those files
 # alone (a few seconds; without MPI installed it repeats what the build did).
-for f in src/study/mpi_queue.cpp src/parallel/communicator.cpp src/elastic/mpi_engine.cpp; do
+for f in src/study/mpi_queue.cpp src/parallel/communicator.cpp src/elastic/mpi_engine.cpp \
+  src/wear/grid_vector.cpp; do
   fretbem_log "checking $f without MPI (-fsyntax-only)"
   "${CXX:-c++}" -std=c++20 -fsyntax-only -Wall -Wextra -Werror -Iinclude -I/usr/include/eigen3 "$f"
 done

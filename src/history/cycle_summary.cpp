@@ -96,9 +96,14 @@ std::optional<CycleRow> CycleAccumulator::finish() {
   return row();
 }
 
-CycleMeter::CycleMeter(double dissipation0, Field slip_path0)
-    : dissipation0_(dissipation0), slip_path0_(std::move(slip_path0)) {
+CycleMeter::CycleMeter(double dissipation0, Field slip_path0, const Communicator& comm)
+    : dissipation0_(dissipation0), slip_path0_(std::move(slip_path0)), comm_(&comm) {
   m_.stick_area = INFINITY;
+}
+
+// Over the ranks; -inf for an empty slab.
+double CycleMeter::largest(const Field& x) const {
+  return comm_->max(x.size() ? x.maxCoeff() : -HUGE_VAL);
 }
 
 // The row's indentation, contact radius and peak pressure are those at the period's end
@@ -112,7 +117,7 @@ void CycleMeter::add(const StepRecord& r, const InterfaceState& s, double phase)
   if (at_phase0_) return;
   contact_ = r.contact_area;
   m_.delta = r.delta;
-  m_.peak_pressure = s.pressure.maxCoeff();
+  m_.peak_pressure = largest(s.pressure);
   at_phase0_ = std::abs(phase - std::round(phase)) <= 1e-9;
 }
 
@@ -122,7 +127,7 @@ CycleMeasures CycleMeter::finish(double dissipation, const InterfaceState& s) co
   m.contact_radius = std::sqrt(contact_ / std::numbers::pi);
   // Stability of explicit steps involves only nodes in contact (a separated node neither
   // wears nor passes load on), so the largest slip is taken over them.
-  m.max_slip = ((s.pressure > 0.0).cast<double>() * (s.slip_path - slip_path0_)).maxCoeff();
+  m.max_slip = largest((s.pressure > 0.0).cast<double>() * (s.slip_path - slip_path0_));
   return m;
 }
 

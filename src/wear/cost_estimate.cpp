@@ -89,8 +89,7 @@ WearCostEstimate estimate_wear_cost(const Scenario& sc) {
   WearCycles cycles(*model, stepper);
   const ConvolutionMeter meter(*model->half_space);
   cycles.start();
-  const WearCycle c0 =
-      cycles.steady(0.0, Field::Zero(model->scenario.grid.nx, model->scenario.grid.ny));
+  const WearCycle c0 = cycles.steady(0.0, model->half_space->local_zeros());
   const double seconds = meter.seconds(), conv = meter.convolutions();
   // Simulated cycles of one steady cycle (the ODE right-hand side): to the first turning point
   // from a traction-free state, then one period (docs/wear.md).

@@ -128,6 +128,15 @@ WearCycles::WearCycles(Model& model, Stepper& stepper, std::vector<Observer*> ob
   cycle_.back().turning = false;
 }
 
+const Communicator& WearCycles::comm() const {
+  return model_.half_space->communicator();
+}
+
+// Over the grid's ranks; -inf for an empty slab.
+double WearCycles::largest(const Field& x) const {
+  return comm().max(x.size() ? x.maxCoeff() : -HUGE_VAL);
+}
+
 void WearCycles::start() {
   step(initial_, 0.0, true);
 }
@@ -156,7 +165,7 @@ void WearCycles::fresh(const Field& worn) {
   m.last_normal.reset();  // forces the normal re-solve on the new surface
   m.last_target.resize(0);
   m.fields.clear();  // the bound and the pressure's slip follow from the zero state
-  m.wear_volume = worn.sum() * model_.scenario.grid.cell_area();
+  m.wear_volume = comm().sum(worn.sum()) * model_.scenario.grid.cell_area();
   stepper_.restore(s, m);
 }
 
@@ -192,8 +201,8 @@ int WearCycles::settle() {
   double change = INFINITY;
   for (int k = 2; k <= kMaxSettleLoops; ++k) {
     Field rate = loop_wear();
-    const double difference = (rate - previous).abs().maxCoeff();
-    const double scale = rate.abs().maxCoeff();
+    const double difference = largest((rate - previous).abs());
+    const double scale = largest(rate.abs());
     if (difference <= tol * scale) return k;  // also two loops that wear nothing
     change = difference / scale;
     previous.swap(rate);
@@ -220,7 +229,7 @@ WearCycle WearCycles::continued(double N) {
 }
 
 double WearCycles::initial_indentation() {
-  return probe_loading(Field::Zero(model_.scenario.grid.nx, model_.scenario.grid.ny)).indentation;
+  return probe_loading(model_.half_space->local_zeros()).indentation;
 }
 
 void WearCycles::resume(const WearCounters& c) {
@@ -265,7 +274,7 @@ WearCycle WearCycles::measure(double N, const std::vector<LoadStep>& steps, doub
   const InterfaceState& s = stepper_.state();
   const Field wear0 = s.wear;
   const Field worn = model_.surface0 - model_.surface;
-  CycleMeter meter(stepper_.memory().dissipation, s.slip_path);
+  CycleMeter meter(stepper_.memory().dissipation, s.slip_path, comm());
   stepper_.set_wear_cycle(N);  // named in a solver failure's message
   for (const auto& ls : steps) meter.add(step(ls, ls.time + t_shift, true), s, ls.time);
   const CycleMeasures m = meter.finish(stepper_.memory().dissipation, s);
@@ -273,8 +282,8 @@ WearCycle WearCycles::measure(double N, const std::vector<LoadStep>& steps, doub
   c.N = N;
   c.rate = s.wear - wear0;
   c.energy = m.energy;
-  c.wear_volume = worn.sum() * model_.scenario.grid.cell_area();
-  c.max_depth = worn.maxCoeff();
+  c.wear_volume = comm().sum(worn.sum()) * model_.scenario.grid.cell_area();
+  c.max_depth = largest(worn);
   c.contact_radius = m.contact_radius;
   c.stick_area = m.stick_area;
   c.peak_pressure = m.peak_pressure;

@@ -41,10 +41,10 @@ void flush_step(WearReport& rep, std::size_t first, Observer& log, double t0, st
 // (tractions carried, each cycle's wear applied before the next). Every row is a point of the
 // solution (accepted).
 double cycle_stretch(WearCycles& cyc, WearReport& rep, Observer& log, double t, Field& W, long L,
-                     std::pair<double, std::uint64_t>& last) {
+                     std::pair<double, std::uint64_t>& last, const Communicator& comm) {
   for (long k = 0; k < L; ++k, t += 1.0) {
     WearCycle c = k == 0 ? cyc.steady(t, W) : cyc.continued(t);
-    c.worn_hash = fingerprint(W);
+    c.worn_hash = fingerprint(W, comm);
     // The state the stretch starts from may have its accepted row already (the integrator
     // step's last evaluation).
     const std::pair<double, std::uint64_t> key{t, c.worn_hash};
@@ -74,7 +74,10 @@ class OdeRun {
   WearReport run(long max_steps);
 
  private:
-  Eigen::Map<Field> worn() { return Eigen::Map<Field>(N_VGetArrayPointer(y_), g_.nx, g_.ny); }
+  Eigen::Map<Field> worn() { return slab(d_, y_); }
+  std::uint64_t worn_fingerprint() {
+    return fingerprint(worn(), model_.half_space->communicator());
+  }
   void resume_from(const WearCheckpoint& at);
   void first_cycle();
   bool choose_implicit(WearIntegrator kind) const;
@@ -89,14 +92,13 @@ class OdeRun {
   WearCycles& cyc_;
   Observer& log_;
   const WearCheckpoint* resume_;
-  const Grid& g_;
   const double N_end_;
   const std::vector<double> snaps_;
   WearReport rep_;
   SunContext sun_;
-  std::unique_ptr<_generic_N_Vector, void (*)(N_Vector)> y_owner_;
-  N_Vector y_;
   OdeData d_;
+  GridVector y_owner_;
+  N_Vector y_;
   double t_ = 0.0, cap_ = INFINITY;
   std::size_t first_snap_ = 1;
   long steps0_ = 0, rejected0_ = 0;
@@ -109,24 +111,17 @@ class OdeRun {
   bool stretched_ = false;  // the previous wear step was a stretch of cycles
 };
 
-N_Vector new_vector(const Grid& g, SUNContext ctx) {
-  N_Vector y = N_VNew_Serial(sunindextype(g.nx) * g.ny, ctx);
-  if (!y) throw SolverError("SUNDIALS: no vector");
-  return y;
-}
-
 OdeRun::OdeRun(Model& model, WearCycles& cyc, Observer& log, WearIntegrator kind,
                const WearCheckpoint* resume)
     : model_(model),
       cyc_(cyc),
       log_(log),
       resume_(resume),
-      g_(model.scenario.grid),
       N_end_(model.scenario.wear.cycles),
       snaps_(snapshot_cycles(N_end_)),
-      y_owner_(new_vector(g_, sun_.ctx), N_VDestroy),
-      y_(y_owner_.get()),
-      d_{model, cyc, rep_} {
+      d_{model, cyc, rep_},
+      y_owner_(new_grid_vector(*model.half_space, sun_.ctx)),
+      y_(y_owner_.get()) {
   N_VConst(0.0, y_);
   if (resume)
     resume_from(*resume);
@@ -136,7 +131,7 @@ OdeRun::OdeRun(Model& model, WearCycles& cyc, Observer& log, WearIntegrator kind
   // A checkpoint is written before the state it holds has a row (its row is the first
   // evaluation of the next step), so a resumed run starts with none (a resume row written
   // with accepted = 0 would hide an accepted state).
-  last_ = resume ? std::pair{-1.0, std::uint64_t(0)} : std::pair{t_, fingerprint(worn())};
+  last_ = resume ? std::pair{-1.0, std::uint64_t(0)} : std::pair{t_, worn_fingerprint()};
   implicit_ = choose_implicit(kind);
   rep_.implicit = implicit_;
   if (!resume) {
@@ -167,10 +162,11 @@ void OdeRun::resume_from(const WearCheckpoint& at) {
 // A first steady cycle on the unworn surface: the N = 0 row, snapshot and stability cap.
 void OdeRun::first_cycle() {
   cyc_.start();
-  WearCycle c0 = cyc_.steady(0.0, Field::Zero(g_.nx, g_.ny));
+  const Field unworn = model_.half_space->local_zeros();
+  WearCycle c0 = cyc_.steady(0.0, unworn);
   c0.accepted = true;
-  c0.worn_hash = fingerprint(worn());
-  log_.snapshot(0.0, Field::Zero(g_.nx, g_.ny), cyc_.pressure(), true);
+  c0.worn_hash = worn_fingerprint();
+  log_.snapshot(0.0, unworn, cyc_.pressure(), true);
   cap_ = explicit_step_cap(model_, c0.max_slip);
   require_ode_cap(model_.scenario.wear, cap_);
   keep(rep_, std::move(c0), log_);
@@ -199,8 +195,7 @@ WearReport OdeRun::run(long max_steps) {
 bool OdeRun::advance(std::size_t i, long max_steps) {
   const StepStart s = evolve_step(i);
   const bool final_state = t_ >= N_end_;
-  flush_step(rep_, s.first_row, log_, s.t, s.worn_hash, t_, fingerprint(worn()), final_state,
-             last_);
+  flush_step(rep_, s.first_row, log_, s.t, s.worn_hash, t_, worn_fingerprint(), final_state, last_);
   if (final_state) return false;
   // The explicit step obeys the new cap from its first attempt on.
   double h_next = implicit_ ? it_.next_step() : std::min(it_.next_step(), cap_);
@@ -221,7 +216,7 @@ bool OdeRun::advance(std::size_t i, long max_steps) {
 
 StepStart OdeRun::evolve_step(std::size_t i) {
   d_.step_max_slip = 0.0;
-  const StepStart s{t_, cyc_.simulated(), fingerprint(worn()), rep_.history.size()};
+  const StepStart s{t_, cyc_.simulated(), worn_fingerprint(), rep_.history.size()};
   const int flag = it_.evolve(snaps_[i], y_, &t_);
   if (d_.error) std::rethrow_exception(d_.error);
   check(flag, "step", t_);
@@ -245,7 +240,7 @@ void OdeRun::guard_cost(std::size_t i, const StepStart& s) {
   const long L = long(std::min(stretch_, std::floor(snaps_[i] - t_ + eps)));
   if (L >= 1) {
     Field W = worn();
-    t_ = cycle_stretch(cyc_, rep_, log_, t_, W, L, last_);
+    t_ = cycle_stretch(cyc_, rep_, log_, t_, W, L, last_, model_.half_space->communicator());
     if (std::abs(t_ - snaps_[i]) <= eps) t_ = snaps_[i];
     worn() = W;
   }

@@ -24,19 +24,18 @@ SunContext::~SunContext() {
 int wear_rhs(realtype N, N_Vector y, N_Vector ydot, void* user) {
   auto& d = *static_cast<OdeData*>(user);
   try {
-    const Grid& g = d.model.scenario.grid;
     // Worn depth is never negative; an implicit method's Newton iterates may overshoot below
     // zero (material added), which would raise a node above the unworn surface.
-    const Field W = Eigen::Map<const Field>(N_VGetArrayPointer(y), g.nx, g.ny).max(0.0);
+    const Field W = slab(d, y).max(0.0);
     WearCycle c = d.cyc.steady(N, W);
-    Eigen::Map<Field>(N_VGetArrayPointer(ydot), g.nx, g.ny) = c.rate;
+    slab(d, ydot) = c.rate;
     if (d.pre && !d.probing) {
       d.base_pressure = d.cyc.pressure();
       d.base_rate = c.rate;
       ++d.base_generation;
     }
     d.step_max_slip = std::max(d.step_max_slip, c.max_slip);
-    c.worn_hash = fingerprint(W);
+    c.worn_hash = fingerprint(W, d.model.half_space->communicator());
     // Logged once the step is done and its accepted state known (flush_step).
     keep(d.rep, std::move(c));
     return 0;
@@ -58,10 +57,9 @@ int newton_matrix_solve(OdeData& d, N_Vector b, N_Vector x, double gamma) {
       d.pre->setup(d.base_pressure, d.base_rate);
       d.linearised_generation = d.base_generation;
     }
-    const Grid& g = d.model.scenario.grid;
     Field out;
-    d.pre->solve(Eigen::Map<const Field>(N_VGetArrayPointer(b), g.nx, g.ny), gamma, out);
-    Eigen::Map<Field>(N_VGetArrayPointer(x), g.nx, g.ny) = out;
+    d.pre->solve(slab(d, b), gamma, out);
+    slab(d, x) = out;
     return 0;
   } catch (...) {
     d.error = std::current_exception();

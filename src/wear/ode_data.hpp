@@ -42,6 +42,14 @@ struct OdeData {
   long base_generation = 0, linearised_generation = -1;
 };
 
+/// This rank's slab of a grid vector (nx, local rows), in place.
+Eigen::Map<Field> slab(const OdeData& d, N_Vector v);
+/// A vector owned with the function that frees it.
+using GridVector = std::unique_ptr<_generic_N_Vector, void (*)(N_Vector)>;
+/// A grid vector of hs's grid (grid_vector.cpp): serial, or on a distributed grid SUNDIALS'
+/// MPI+X vector over a serial one holding this rank's slab, whose reductions are over all
+/// ranks.
+GridVector new_grid_vector(const HalfSpace& hs, SUNContext ctx);
 /// dW/dN = w(z0 - W) (m per cycle) at N: one steady cycle on the surface worn by y.
 int wear_rhs(realtype N, N_Vector y, N_Vector ydot, void* user);
 /// ARKODE's error handler: silent (failures are reported by `check`).

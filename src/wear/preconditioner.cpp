@@ -16,7 +16,7 @@ void WearPreconditioner::setup(const Field& pressure, const Field& wear_per_cycl
   mask_ = (pressure > 0.0).cast<double>();
   d_ = mask_ * (wear_per_cycle / pressure.max(1e-300)).max(0.0);
   cached_gamma_ = -1.0;
-  ready_ = (mask_ > 0.0).any();
+  ready_ = comm().any((mask_ > 0.0).any());
 }
 
 void WearPreconditioner::solve(const Field& b, double gamma, Field& x) {
@@ -33,7 +33,9 @@ void WearPreconditioner::solve(const Field& b, double gamma, Field& x) {
       cg(mask_, gamma, ones_solution_);
       cached_gamma_ = gamma;
     }
-    q -= (q.sum() / ones_solution_.sum()) * ones_solution_;
+    double sums[2] = {q.sum(), ones_solution_.sum()};
+    comm().sum(sums);
+    q -= (sums[0] / sums[1]) * ones_solution_;
   }
   x = b + gamma * d_ * q;
 }
@@ -44,21 +46,23 @@ void WearPreconditioner::cg(const Field& r, double gamma, Field& q) {
   diag_ = mask_ * (hs_.normal_self() + gamma * d_) + (1.0 - mask_);
   q.setZero(r.rows(), r.cols());
   r_ = r * mask_;
-  const double r0 = std::sqrt((r_ * r_).sum());
+  const double r0 = std::sqrt(comm().sum((r_ * r_).sum()));
   if (r0 == 0.0) return;
   z_ = r_ / diag_;
   s_ = z_;
-  double rz = (r_ * z_).sum();
+  double rz = comm().sum((r_ * z_).sum());
   for (int it = 0; it < 1000; ++it) {
     hs_.normal(s_, u_);
     t_ = mask_ * (u_ + gamma * d_ * s_);
-    const double alpha = rz / (s_ * t_).sum();
+    const double alpha = rz / comm().sum((s_ * t_).sum());
     q += alpha * s_;
     r_ -= alpha * t_;
     ++iterations_;
-    if (std::sqrt((r_ * r_).sum()) <= tol_ * r0) return;
     z_ = r_ / diag_;
-    const double rz_new = (r_ * z_).sum();
+    double sums[2] = {(r_ * r_).sum(), (r_ * z_).sum()};  // one message per iteration
+    comm().sum(sums);
+    if (std::sqrt(sums[0]) <= tol_ * r0) return;
+    const double rz_new = sums[1];
     s_ = z_ + (rz_new / rz) * s_;
     rz = rz_new;
   }

@@ -21,9 +21,10 @@ void keep(WearReport& rep, WearCycle c);
 /// Logs the cycle, then keeps it.
 void keep(WearReport& rep, WearCycle c, Observer& log);
 
-/// The fingerprint of a worn depth W (m): identifies the evaluations made on an accepted state
-/// without keeping a copy of W per evaluation.
-std::uint64_t fingerprint(const Eigen::Ref<const Field>& W);
+/// The fingerprint of a worn depth W (m), this rank's slab of it: identifies the evaluations
+/// made on an accepted state without keeping a copy of W per evaluation. Over all ranks
+/// (collective): equal on every rank, so every rank takes the same accepted-row decisions.
+std::uint64_t fingerprint(const Eigen::Ref<const Field>& W, const Communicator& comm);
 
 /// Reference integrator: cycle after cycle, tractions carried, each cycle's wear applied
 /// before the next.

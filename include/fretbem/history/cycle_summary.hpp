@@ -13,6 +13,7 @@
 #include "fretbem/contact/interface_state.hpp"
 #include "fretbem/history/load_path.hpp"
 #include "fretbem/history/observables.hpp"
+#include "fretbem/parallel/communicator.hpp"
 
 namespace fretbem {
 
@@ -92,8 +93,10 @@ struct CycleMeasures {
 class CycleMeter {
  public:
   /// dissipation0: the cumulative dissipation (J) before the cycle; slip_path0: the slip
-  /// paths (m) before it.
-  CycleMeter(double dissipation0, Field slip_path0);
+  /// paths (m) before it (this rank's slab on a distributed grid, whose maxima are taken
+  /// over `comm`'s ranks).
+  CycleMeter(double dissipation0, Field slip_path0,
+             const Communicator& comm = serial_communicator());
   /// Adds a step at load phase `phase` (time in periods) with its record and the state after.
   void add(const StepRecord& rec, const InterfaceState& state, double phase);
   /// The cycle's measures: `dissipation` the cumulative dissipation (J) after its last step,
@@ -101,8 +104,11 @@ class CycleMeter {
   CycleMeasures finish(double dissipation, const InterfaceState& state) const;
 
  private:
+  double largest(const Field& x) const;
+
   double dissipation0_;
   Field slip_path0_;
+  const Communicator* comm_;
   CycleMeasures m_;
   double contact_ = 0.0;
   bool at_phase0_ = false;

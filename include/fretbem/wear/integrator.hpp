@@ -28,6 +28,11 @@
 //    of the last cycle held fixed, solved exactly by CG), or Jacobian-free Newton–Krylov
 //    (SPGMR, finite-difference Jacobian-vector products of the per-cycle wear map,
 //    preconditioned by the same matrix): wear.newton.
+//
+// On a grid distributed over MPI ranks (a HalfSpace with a distributed communicator) every
+// Field here is this rank's slab (half_space.hpp) and every scalar, and every decision taken
+// on one, is over all ranks: the wear layer's sums, maxima and fingerprints go through the
+// grid's communicator and ARKODE's vector reductions through SUNDIALS' MPI+X vector.
 #pragma once
 
 #include <cmath>
@@ -148,6 +153,10 @@ class WearCycles {
 
  private:
   void fresh(const Field& worn);
+  /// The grid's reduction layer (one rank: the identity).
+  const Communicator& comm() const;
+  /// Largest value of a field over the grid's ranks (collective).
+  double largest(const Field& x) const;
   /// The normal loading alone of surface z0 - worn from a traction-free state, silent and
   /// leaving the run's cumulative dissipation as it was; the stepper holds its state.
   const InterfaceState& probe_loading(const Field& worn);

@@ -39,6 +39,8 @@ class WearPreconditioner {
  private:
   /// (C_A + gamma D) q = r on A, Jacobi-preconditioned CG; q = 0 off A.
   void cg(const Field& r, double gamma, Field& q);
+  /// The grid's reduction layer: fields are this rank's slab, sums over all ranks.
+  const Communicator& comm() const { return hs_.communicator(); }
 
   HalfSpace& hs_;
   bool force_control_;
@@ -47,7 +49,7 @@ class WearPreconditioner {
   Eigen::ArrayXXd mask_;  // 1 on A
   Field d_;               // wear per unit pressure, 0 off A
   double cached_gamma_ = -1.0;
-  Field ones_solution_;  // (C_A + gamma D)^-1 1_A for cached_gamma_
+  Field ones_solution_;                 // (C_A + gamma D)^-1 1_A for cached_gamma_
   Field q_, diag_, r_, z_, s_, t_, u_;  // work fields, kept between solves
   long iterations_ = 0;
 };
