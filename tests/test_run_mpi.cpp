@@ -15,9 +15,12 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <map>
 
+#include "support/child_process.hpp"
 #include "support/csv_text.hpp"
 #include "sweep_test_util.hpp"
 
@@ -244,6 +247,67 @@ TEST(RunMpi, ResumeOnRanksEqualsUninterruptedRun) {
     ASSERT_EQ(r.status, 0) << r.err;
     expect_same_run(d / "serial", d / out);
   }
+}
+
+// The processes whose parent is `parent` and whose name is fretbem: the ranks mpirun started.
+std::vector<pid_t> ranks_of(pid_t parent) {
+  std::vector<pid_t> out;
+  for (const auto& e : fs::directory_iterator("/proc")) {
+    const std::string id = e.path().filename().string();
+    if (id.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::istringstream stat(slurp(e.path() / "stat"));
+    std::string line;
+    std::getline(stat, line);
+    const auto close = line.rfind(')');
+    if (close == std::string::npos || slurp(e.path() / "comm") != "fretbem\n") continue;
+    std::istringstream rest(line.substr(close + 1));
+    char state = 0;
+    long ppid = 0;
+    if (rest >> state >> ppid && ppid == parent) out.push_back(pid_t(std::stol(id)));
+  }
+  return out;
+}
+
+// SIGTERM to one rank (a batch system's signal may reach the ranks at different steps): every
+// rank stops after the same step, rank 0 writes the checkpoint and says so once, all exit 143,
+// and the run resumed on two ranks equals the uninterrupted serial run.
+TEST(RunMpi, SignalToOneRankStopsAllAndResumes) {
+  const fs::path d = scratch("run_mpi_signal");
+  const Result s = run(0, small_mindlin(), d, "serial");
+  ASSERT_EQ(s.status, 0) << s.err;
+  std::vector<std::string> argv{
+      FRETBEM_MPIEXEC, "--allow-run-as-root", "--oversubscribe", "-n", "2", FRETBEM_BINARY, "run"};
+  std::istringstream words(small_mindlin() + " --quiet --out " + (d / "sig").string());
+  for (std::string w; words >> w;) argv.push_back(w);
+  const pid_t mpirun_pid = fork();
+  if (mpirun_pid == 0) {
+    const int e = ::open((d / "err").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (e < 0 || ::dup2(e, 2) < 0) ::_exit(126);
+    std::vector<char*> args;
+    for (auto& a : argv) args.push_back(a.data());
+    args.push_back(nullptr);
+    ::execv(args[0], args.data());
+    ::_exit(127);
+  }
+  std::vector<pid_t> ranks;
+  int status = 0;
+  ASSERT_TRUE(fretbem_test::wait_until(
+      mpirun_pid,
+      [&] {
+        ranks = ranks_of(mpirun_pid);
+        const std::string rows = slurp(d / "sig" / "timeseries.csv");
+        return ranks.size() == 2 && std::count(rows.begin(), rows.end(), '\n') >= 4;
+      },
+      &status))
+      << "the run ended before its third step";
+  ::kill(ranks.back(), SIGTERM);
+  EXPECT_EQ(fretbem_test::wait_exit(mpirun_pid), 143);
+  const std::string err = slurp(d / "err");
+  EXPECT_EQ(count(err, "fretbem: stopped by SIGTERM"), 1) << err;
+  const Result r =
+      shell(mpirun(2) + FRETBEM_BINARY + " run --quiet --resume " + (d / "sig").string(), d);
+  ASSERT_EQ(r.status, 0) << r.err;
+  expect_same_run(d / "serial", d / "sig");
 }
 
 // A refusal on two ranks: one line (rank 0's), the same exit code, nothing left running.

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <map>
 #include <sstream>
@@ -186,9 +187,15 @@ void write_wear(hid_t f, const WearCheckpoint& w) {
 
 // The whole checkpoint as the bytes of an HDF5 file, built with the in-memory (core) driver:
 // nothing touches the disk until write_file_atomically, whose every system call is checked.
-std::vector<char> checkpoint_image(const Model& model, const InterfaceState& state,
-                                   const StepperMemory& memory,
-                                   const std::vector<double>& predictor,
+// What a checkpoint holds of the stepper; the memory and the predictor's flat form are made
+// when written, one at a time (each as large as the state).
+struct StepperParts {
+  const InterfaceState& state;
+  std::function<StepperMemory()> memory;
+  std::function<std::vector<double>()> predictor;
+};
+
+std::vector<char> checkpoint_image(const Model& model, const StepperParts& stepper,
                                    const WearCheckpoint* wear) {
   hdf5::Plist fapl(H5Pcreate(H5P_FILE_ACCESS));
   if (!fapl.valid() || H5Pset_fapl_core(fapl.get(), 1 << 20, 0) < 0) write_failed("(set-up)");
@@ -203,10 +210,11 @@ std::vector<char> checkpoint_image(const Model& model, const InterfaceState& sta
   io::write_file_attributes(f.get(), model.scenario.grid, model.scenario.output.dir,
                             "fretbem checkpoint", "checkpoint");
   write_text(f.get(), "scenario", model.scenario.resolved_text);
-  write_state(f.get(), state);
-  write_memory(f.get(), memory);
+  write_state(f.get(), stepper.state);
+  write_memory(f.get(), stepper.memory());
   write_field(f.get(), "surface", model.surface);
-  if (!predictor.empty()) write_vector(f.get(), "predictor", predictor);
+  if (const std::vector<double> p = stepper.predictor(); !p.empty())
+    write_vector(f.get(), "predictor", p);
   const InputDigest inputs = input_digest(model);
   write_text(f.get(), "input_digest_path", inputs.path);
   write_text(f.get(), "input_digest_surface", inputs.surface);
@@ -441,11 +449,10 @@ void probe_in_child(const fs::path& path) {
 
 namespace {
 
-void write_checkpoint(const fs::path& dir, const Model& model, const InterfaceState& state,
-                      const StepperMemory& memory, const std::vector<double>& predictor,
+void write_checkpoint(const fs::path& dir, const Model& model, const StepperParts& stepper,
                       const WearCheckpoint* wear) {
   hdf5::silence();
-  const std::vector<char> bytes = checkpoint_image(model, state, memory, predictor, wear);
+  const std::vector<char> bytes = checkpoint_image(model, stepper, wear);
   try {  // DIR/checkpoint.h5.tmp, every call checked, then renamed over the previous one
     write_file_atomically(dir / kFile, std::string_view(bytes.data(), bytes.size()));
   } catch (const std::runtime_error& e) {
@@ -463,13 +470,16 @@ void save_checkpoint(const fs::path& dir, const Model& model, const Stepper& ste
   const HalfSpace& hs = *model.half_space;
   const Communicator& comm = hs.communicator();
   if (!comm.distributed())
-    return write_checkpoint(dir, model, stepper.state(), stepper.memory(),
-                            stepper.predictor().flatten(), wear);
+    return write_checkpoint(dir, model,
+                            {stepper.state(), [&stepper] { return stepper.memory(); },
+                             [&stepper] { return stepper.predictor().flatten(); }},
+                            wear);
   const InterfaceState state = gathered(hs, stepper.state());
   const StepperMemory memory = gathered(hs, stepper.memory());
   const std::vector<double> predictor = CyclePredictor::gathered(
       stepper.predictor().flatten(), comm, Eigen::Index(hs.first_row()) * hs.grid().nx);
-  on_rank_zero(comm, [&] { write_checkpoint(dir, model, state, memory, predictor, wear); });
+  const StepperParts whole{state, [&memory] { return memory; }, [&predictor] { return predictor; }};
+  on_rank_zero(comm, [&] { write_checkpoint(dir, model, whole, wear); });
 }
 
 void reseal_checkpoint(const fs::path& file) {

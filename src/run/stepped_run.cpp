@@ -79,9 +79,10 @@ int stop(Model& model, const Stepper& stepper, const RunWriters* files) {
       std::to_string(stepper.next_step()) + " of " + std::to_string(stepper.steps()) + " steps";
   long code = 0;
   const Communicator& comm = model.half_space->communicator();
+  const int sig = int(comm.max(double(stop_signal())));  // a signal may reach one rank only
   on_rank_zero(comm, [&] {
     files->h5.write_xdmf();
-    code = report_stop(where, dir);
+    code = report_stop(where, dir, sig);
   });
   return int(broadcast_count(comm, code));
 }
