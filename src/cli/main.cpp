@@ -53,6 +53,7 @@ constexpr const char* kUsage =
     "  fretbem sweep STUDY.ini [--jobs J] [--set section.key=value ...] [--out DIR] [--quiet]\n"
     "                [--list | --member K | --aggregate]   (docs/sweep.md; under mpirun:\n"
     "                members spread over the ranks, docs/cluster.md)\n"
+    "  mpirun -n K fretbem run ...   one grid split over K ranks (MPI builds, docs/mpi-grid.md)\n"
     "  fretbem --help | --version\n\n"
     "Scenario keys, output columns and conventions: see README.md.\n";
 
@@ -61,6 +62,12 @@ constexpr const char* kSurfaceDefaults =
     "[material]\nE = 1\nnu = 0\n[grid]\nn = 256\nlength = 1\n"
     "[surface]\ntype = rough\nhurst = 0.8\nmethod = fourier\nseed = 1\n"
     "[load]\nnormal_force = 1\n";
+
+// A run on a grid distributed over ranks: rank 0 prints its error line, the other ranks
+// (which raise the same error) only exit with its code; a failed solve's inputs are slabs,
+// not saved.
+bool g_silent_rank = false;
+bool g_distributed_run = false;
 
 struct Args {
   std::string command, scenario, out, resume;
@@ -156,7 +163,7 @@ void print_input_warnings_once() {
 // the scenario's choices leave unread.
 Scenario read_scenario(const Args& a) {
   if (a.scenario.empty()) throw InputError(a.command + ": no scenario file given");
-  print_input_warnings_once();
+  if (launched_rank() == 0) print_input_warnings_once();
   Scenario sc = load_scenario(a.scenario, a.sets);
   if (a.command == "run" || a.command == "check")
     for (const auto& w : ignored_key_warnings(sc)) input_warning(w);
@@ -169,31 +176,29 @@ RunOptions run_options(const Args& a) {
 
 // Resume takes the run's own scenario and folder: options that would change either are
 // refused.
-int cmd_resume(const Args& a) {
+int cmd_resume(const Args& a, const Communicator& comm) {
   if (!a.scenario.empty() || !a.sets.empty())
     throw InputError("run --resume DIR takes no scenario or --set: the run's own is used");
   if (a.out_given)
     throw InputError("run --resume DIR continues in DIR: --out is not allowed with it");
   if (a.overwrite) throw InputError("run --resume DIR: --overwrite is not allowed with it");
-  return resume_run(a.resume, run_options(a));
+  return resume_run(a.resume, run_options(a), comm);
 }
 
+// Under mpirun -n K > 1 one grid is distributed over the ranks (docs/mpi-grid.md): every rank
+// reads and validates the scenario alike, rank 0 alone writes files and prints (the other
+// ranks' warnings and error lines are rank 0's too, and are not repeated).
 int cmd_run(const Args& a) {
-  // A grid distributed over ranks exists up to the normal solve (docs/mpi-grid.md); `run` on
-  // K ranks would be K serial copies racing for one output folder. Refused before anything is
-  // read or written; rank 0 prints the line, the others only exit.
-  if (launched_on_several_ranks()) {
-    if (launched_rank() != 0) return 2;
-    throw InputError(
-        "fretbem run under mpirun -n K > 1: a run on a grid distributed over ranks is not "
-        "available yet (docs/mpi-grid.md); start `fretbem run` without mpirun, or spread "
-        "runs over ranks with `fretbem sweep`");
-  }
+  const Communicator& comm =
+      launched_on_several_ranks() ? world_communicator() : serial_communicator();
+  g_distributed_run = comm.distributed();
+  g_silent_rank = comm.rank() != 0;
+  if (g_silent_rank) set_input_warning_handler([](const std::string&) {});
   install_stop_signal_handlers(SecondSignal::kills);  // stop at the next step, checkpointed
-  if (!a.resume.empty()) return cmd_resume(a);
+  if (!a.resume.empty()) return cmd_resume(a, comm);
   Scenario sc = read_scenario(a);
   if (!a.out.empty()) set_output_dir(sc, a.out);
-  return run_scenario(sc, run_options(a));
+  return run_scenario(sc, run_options(a), comm);
 }
 
 int cmd_check(const Args& a) {
@@ -279,6 +284,12 @@ std::string describe(const std::filesystem::filesystem_error& e) {
   return msg + ": " + e.code().message();
 }
 
+// An error line on stderr, unless this rank repeats rank 0's.
+template <class... T>
+void say(const char* format, T... values) {
+  if (!g_silent_rank) std::fprintf(stderr, format, values...);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -295,34 +306,34 @@ int main(int argc, char** argv) {
     if (a.command == "sweep") return cmd_sweep(a);
     throw InputError("unknown command '" + a.command + "' (run, check, surface, ensemble, sweep)");
   } catch (const InputError& e) {
-    std::fprintf(stderr, "fretbem: error: %s\n", e.what());
+    say("fretbem: error: %s\n", e.what());
     return 2;
   } catch (const IncrementFailure& e) {
     // The inputs of the failed solve, so that it can be reproduced alone.
     std::string where;
     try {
+      if (g_distributed_run) throw std::runtime_error("not saved by a run over MPI ranks");
       where = "; its inputs are in " + write_failed_solve(e.dir, e.inputs).string();
     } catch (const std::exception& w) {
       where = "; its inputs could not be saved: " + std::string(w.what());
     }
-    std::fprintf(stderr, "\nfretbem: solver error: %s%s\n", e.what(), where.c_str());
+    say("\nfretbem: solver error: %s%s\n", e.what(), where.c_str());
     return 3;
   } catch (const SolverError& e) {
-    std::fprintf(stderr, "\nfretbem: solver error: %s\n", e.what());
+    say("\nfretbem: solver error: %s\n", e.what());
     return 3;
   } catch (const po::error& e) {
-    std::fprintf(stderr, "fretbem: error: %s\n", e.what());
+    say("fretbem: error: %s\n", e.what());
     return 2;
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr,
-                 "fretbem: error: out of memory: the grid (grid.n, grid.nx x grid.ny), the load "
-                 "steps or the fields written need more memory than this machine has left\n");
+    say("fretbem: error: out of memory: the grid (grid.n, grid.nx x grid.ny), the load "
+        "steps or the fields written need more memory than this machine has left\n");
     return 1;
   } catch (const std::filesystem::filesystem_error& e) {
-    std::fprintf(stderr, "fretbem: error: %s\n", describe(e).c_str());
+    say("fretbem: error: %s\n", describe(e).c_str());
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "fretbem: error: %s\n", e.what());
+    say("fretbem: error: %s\n", e.what());
     return 1;
   }
 }

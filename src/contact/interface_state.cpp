@@ -4,17 +4,18 @@
 
 namespace fretbem {
 
+// The operator's fields: this rank's slab on a distributed grid, the whole grid serially.
 InterfaceState InterfaceState::zeros(const TangentialOperator& op) {
-  const Grid& g = op.grid();
   InterfaceState s;
-  s.pressure = g.zeros();
   s.traction = op.zeros();
   s.displacement = op.zeros();
-  s.state = StateField::Zero(g.nx, g.ny);
   s.slip = op.zeros();
-  s.slip_path = g.zeros();
-  s.dissipation = g.zeros();
-  s.wear = g.zeros();
+  const Eigen::Index nx = s.traction[0].rows(), ny = s.traction[0].cols();
+  s.pressure = Field::Zero(nx, ny);
+  s.state = StateField::Zero(nx, ny);
+  s.slip_path = Field::Zero(nx, ny);
+  s.dissipation = Field::Zero(nx, ny);
+  s.wear = Field::Zero(nx, ny);
   return s;
 }
 

@@ -122,7 +122,8 @@ void CyclePredictor::remember(const LoadStep& prev, const LoadStep& cur, const V
   for (Eigen::Index k = 0; k < bound.size(); ++k)
     if (bound(k) > 0.0) nodes->push_back(k);
   Entry e{prev, cur, nodes, std::vector<std::vector<double>>(traction.size())};
-  if (!entries_.empty() && *entries_.front().nodes == *nodes) e.nodes = entries_.front().nodes;
+  const bool same_nodes = !entries_.empty() && *entries_.front().nodes == *nodes;
+  if (comm_->min(same_nodes ? 1.0 : 0.0) > 0.0) e.nodes = entries_.front().nodes;
   for (std::size_t c = 0; c < traction.size(); ++c) {
     e.values[c].reserve(e.nodes->size());
     for (const Eigen::Index k : *e.nodes) e.values[c].push_back(traction[c](k));
@@ -130,8 +131,8 @@ void CyclePredictor::remember(const LoadStep& prev, const LoadStep& cur, const V
   entries_.push_front(std::move(e));
   recount();
   // 8 bytes per stored double or index; the oldest entries go first.
-  const double limit = kBytesPerCell * double(bound.size()) / 8.0;
-  while (entries_.size() > 1 && double(stored_) > limit) {
+  const double limit = kBytesPerCell * comm_->sum(double(bound.size())) / 8.0;
+  while (entries_.size() > 1 && comm_->sum(double(stored_)) > limit) {
     entries_.pop_back();
     recount();
   }
@@ -255,6 +256,71 @@ CyclePredictor CyclePredictor::unflatten(const std::vector<double>& v, std::size
   if (r.left() != 0) FlatReader::fail("holds " + std::to_string(r.left()) + " numbers too many");
   p.recount();
   return p;
+}
+
+// Entry by entry: the node list (unless shared) and each component's values, gathered in rank
+// order (the order of the cells: slabs are consecutive column blocks of the grid).
+std::vector<double> CyclePredictor::gathered(const std::vector<double>& v, const Communicator& comm,
+                                             Eigen::Index offset) {
+  if (!comm.distributed() || v.empty()) return v;  // the entries are the same on every rank
+  const auto components = std::size_t(v[1]), entries = std::size_t(v[2]);
+  std::vector<double> out(v.begin(), v.begin() + 3);
+  std::size_t at = 3, shared_count = 0;
+  for (std::size_t i = 0; i < entries; ++i) {
+    out.insert(out.end(), v.begin() + long(at), v.begin() + long(at + 19));  // steps, shared
+    const bool shared = v[at + 18] != 0.0;
+    const auto n = std::size_t(v[at + 19]);
+    at += 20;
+    const std::size_t count_at = out.size();
+    out.push_back(0.0);
+    if (!shared) {
+      std::vector<double> nodes(v.begin() + long(at), v.begin() + long(at + n));
+      for (double& k : nodes) k += double(offset);
+      const std::vector<double> all = comm.gather(nodes, 0);
+      shared_count = all.size();
+      out.insert(out.end(), all.begin(), all.end());
+      at += n;
+    }
+    out[count_at] = double(shared_count);
+    for (std::size_t c = 0; c < components; ++c, at += n) {
+      const std::vector<double> all =
+          comm.gather(std::vector<double>(v.begin() + long(at), v.begin() + long(at + n)), 0);
+      out.insert(out.end(), all.begin(), all.end());
+    }
+  }
+  if (comm.rank() != 0) return {};
+  return out;
+}
+
+std::vector<double> CyclePredictor::sliced(const std::vector<double>& v, Eigen::Index offset,
+                                           Eigen::Index cells) {
+  if (v.size() < 3) return v;
+  const auto components = std::size_t(v[1]), entries = std::size_t(v[2]);
+  std::vector<double> out(v.begin(), v.begin() + 3);
+  std::vector<std::size_t> keep;
+  std::size_t at = 3;
+  for (std::size_t i = 0; i < entries; ++i) {
+    if (at + 20 > v.size()) return v;  // unflatten says what is wrong
+    out.insert(out.end(), v.begin() + long(at), v.begin() + long(at + 19));
+    const bool shared = v[at + 18] != 0.0;
+    const auto n = std::size_t(v[at + 19]);
+    at += 20;
+    if (at + (shared ? 0 : n) + components * n > v.size()) return v;
+    std::vector<double> nodes;
+    if (!shared) {
+      keep.clear();
+      for (std::size_t j = 0; j < n; ++j) {
+        const double k = v[at + j] - double(offset);
+        if (k >= 0.0 && k < double(cells)) keep.push_back(j), nodes.push_back(k);
+      }
+      at += n;
+    }
+    out.push_back(double(keep.size()));
+    out.insert(out.end(), nodes.begin(), nodes.end());
+    for (std::size_t c = 0; c < components; ++c, at += n)
+      for (const std::size_t j : keep) out.push_back(v[at + j]);
+  }
+  return out;
 }
 
 }  // namespace fretbem

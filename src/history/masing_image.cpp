@@ -67,14 +67,14 @@ MasingImage::Plan MasingImage::plan(const Model& m) {
 
 // One more level would pass kBytesPerCell per grid cell of `cells`: recording stops for good.
 bool MasingImage::stops_at_memory_bound(Eigen::Index cells) {
-  if (8.0 * double(nodes_.size()) * double(levels_.size() + 2) > kBytesPerCell * double(cells))
-    full_ = true;
+  const double nodes = comm_->sum(double(nodes_.size())), all_cells = comm_->sum(double(cells));
+  if (8.0 * nodes * double(levels_.size() + 2) > kBytesPerCell * all_cells) full_ = true;
   return full_;
 }
 
 void MasingImage::record_virgin(double level, const Field& tau, const Field& bound) {
   if (full_) return;
-  if (nodes_.empty()) {
+  if (comm_->sum(double(nodes_.size())) == 0.0) {
     for (Eigen::Index k = 0; k < bound.size(); ++k)
       if (bound(k) > 0.0) nodes_.push_back(k);
     sign_ = level < 0.0 ? -1.0 : 1.0;
@@ -165,7 +165,7 @@ MasingImage MasingImage::unflatten(const std::vector<double>& v, Eigen::Index nx
   const double cells = double(nx * ny);
   if (v.size() < 7 || v[0] != 1.0) fail("unknown layout");
   const double nodes = v[4], levels = v[5];
-  if (nodes < 1 || nodes > cells || nodes != std::floor(nodes) || levels < 1 ||
+  if (nodes < 0 || nodes > cells || nodes != std::floor(nodes) || levels < 1 ||
       levels != std::floor(levels) || (v[6] != 0.0 && v[6] != 1.0))
     fail("bad counts");
   const auto m_n = std::size_t(nodes), l_n = std::size_t(levels);
@@ -186,6 +186,57 @@ MasingImage MasingImage::unflatten(const std::vector<double>& v, Eigen::Index nx
     m.tau_.emplace_back(v.begin() + long(at), v.begin() + long(at + m_n));
   if (v[6] != 0.0) m.turning_ = Eigen::Map<const Field>(v.data() + at, nx, ny);
   return m;
+}
+
+// The flat form's parts per rank: nodes (shifted by the slab's first cell), each level's
+// values and the turning traction, each gathered in rank order, which is the order of the
+// cells (slabs are consecutive column blocks of the column-major grid).
+std::vector<double> MasingImage::gathered(const std::vector<double>& v, const Communicator& comm,
+                                          Eigen::Index offset) {
+  if (!comm.distributed() || v.empty()) return v;  // levels are the same on every rank
+  const auto m = std::size_t(v[4]), levels = std::size_t(v[5]);
+  std::vector<double> nodes(v.begin() + 7, v.begin() + long(7 + m));
+  for (double& k : nodes) k += double(offset);
+  const std::vector<double> all_nodes = comm.gather(nodes, 0);
+  std::vector<double> out(v.begin(), v.begin() + 7);
+  out[4] = double(all_nodes.size());
+  out.insert(out.end(), all_nodes.begin(), all_nodes.end());
+  const auto at_levels = v.begin() + long(7 + m);
+  out.insert(out.end(), at_levels, at_levels + long(levels));
+  for (std::size_t l = 0; l < levels; ++l) {
+    const auto at = at_levels + long(levels + l * m);
+    const std::vector<double> all = comm.gather(std::vector<double>(at, at + long(m)), 0);
+    out.insert(out.end(), all.begin(), all.end());
+  }
+  if (v[6] != 0.0) {
+    const auto at = at_levels + long(levels + levels * m);
+    const std::vector<double> all = comm.gather(std::vector<double>(at, v.end()), 0);
+    out.insert(out.end(), all.begin(), all.end());
+  }
+  if (comm.rank() != 0) return {};
+  return out;
+}
+
+std::vector<double> MasingImage::sliced(const std::vector<double>& v, Eigen::Index offset,
+                                        Eigen::Index cells) {
+  if (v.size() < 7) return v;
+  const auto m = std::size_t(v[4]), levels = std::size_t(v[5]);
+  if (v.size() < 7 + m + levels + levels * m) return v;  // unflatten says what is wrong
+  std::vector<std::size_t> keep;
+  std::vector<double> out(v.begin(), v.begin() + 7);
+  for (std::size_t j = 0; j < m; ++j) {
+    const double k = v[7 + j] - double(offset);
+    if (k >= 0.0 && k < double(cells)) keep.push_back(j), out.push_back(k);
+  }
+  out[4] = double(keep.size());
+  const std::size_t at_levels = 7 + m;
+  out.insert(out.end(), v.begin() + long(at_levels), v.begin() + long(at_levels + levels));
+  for (std::size_t l = 0; l < levels; ++l)
+    for (const std::size_t j : keep) out.push_back(v[at_levels + levels + l * m + j]);
+  const std::size_t at_turning = at_levels + levels + levels * m + std::size_t(offset);
+  if (v[6] != 0.0 && at_turning + std::size_t(cells) <= v.size())
+    out.insert(out.end(), v.begin() + long(at_turning), v.begin() + long(at_turning + cells));
+  return out;
 }
 
 }  // namespace fretbem

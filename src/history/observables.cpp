@@ -1,6 +1,9 @@
 #include "fretbem/history/observables.hpp"
 
+#include <array>
+
 #include "fretbem/history/resolution.hpp"
+#include "fretbem/history/slab_measures.hpp"
 
 namespace fretbem {
 
@@ -90,7 +93,8 @@ StepRecord StepRecord::from_values(const std::vector<double>& v) {
 // One pass over the states (five whole-grid masks and counts before: 5 % of a full-sliding
 // step, perf). F_x of the stick part sums in index order, where Eigen's sum of the masked
 // field did not: the column can move in its last bits.
-void measure_areas(const InterfaceState& s, const TangentialOperator& op, StepRecord& r) {
+void measure_areas(const InterfaceState& s, const TangentialOperator& op, const HalfSpace& hs,
+                   StepRecord& r) {
   const double a = op.grid().cell_area();
   std::int64_t stick = 0, at_bound = 0, slip = 0;
   double fstick = 0.0;
@@ -101,12 +105,16 @@ void measure_areas(const InterfaceState& s, const TangentialOperator& op, StepRe
     ++stick, at_bound += st == NodeState::stuck_at_bound;
     fstick += s.traction[0](k);
   }
+  // The counts and the stick force of every rank of a distributed grid (serial: as they are).
+  std::array<double, 4> totals{double(stick), double(at_bound), double(slip), fstick};
+  hs.communicator().sum(totals);
   // Stick: did not slip in this step, inside the bound or on it.
-  r.stick_area = double(stick) * a;
-  r.stuck_at_bound_area = double(at_bound) * a;
-  r.slip_ring_cells = slip_ring_cells(s.state);
-  r.contact_nodes = contact_nodes(s.state);
-  r.slip_area = double(slip) * a;
+  r.stick_area = totals[0] * a;
+  r.stuck_at_bound_area = totals[1] * a;
+  r.slip_ring_cells = slip_ring_cells(s.state, hs);
+  r.contact_nodes = contact_nodes(s.state, hs);
+  r.slip_area = totals[2] * a;
+  fstick = totals[3];
   r.contact_area = r.stick_area + r.slip_area;
   // x component of the traction in global axes.
   const double ex = op.components() == 1 ? op.direction().x() : 1.0;

@@ -37,7 +37,10 @@ std::string percent(double share) {
 
 double slip_ring_cells(const StateField& state) {
   const long slip = (state == std::uint8_t(NodeState::slip)).count();
-  const long edges = contact_edges(state);
+  return slip_ring_width(slip, contact_edges(state));
+}
+
+double slip_ring_width(long slip, long edges) {
   return slip == 0 || edges == 0 ? 0.0 : double(slip) / (M_PI / 4 * double(edges));
 }
 

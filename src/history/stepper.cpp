@@ -8,6 +8,7 @@
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/input_warning.hpp"
 #include "fretbem/history/resolution.hpp"
+#include "fretbem/history/slab_measures.hpp"
 
 namespace fretbem {
 
@@ -15,6 +16,8 @@ Stepper::Stepper(Model& model)
     : model_(model), state_(InterfaceState::zeros(*model.tangential_operator)) {
   if (model_.cycle_predictor) repeated_later_ = CyclePredictor::repeated_later(model_.path.steps);
   masing_plan_ = MasingImage::plan(model_);
+  predictor_.set_communicator(model_.half_space->communicator());
+  masing_.set_communicator(model_.half_space->communicator());
 }
 
 std::size_t Stepper::run(const std::vector<Observer*>& observers, std::size_t max_steps,
@@ -43,8 +46,10 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m,
                       CyclePredictor predictor) {
   state_ = state;
   predictor_ = std::move(predictor);
-  const Grid& g = model_.half_space->grid();
-  masing_ = MasingImage::unflatten(m.masing, g.nx, g.ny);
+  const HalfSpace& hs = *model_.half_space;
+  masing_ = MasingImage::unflatten(m.masing, hs.grid().nx, hs.local_rows());
+  predictor_.set_communicator(hs.communicator());
+  masing_.set_communicator(hs.communicator());
   const auto bound = m.fields.find("bound");
   if (bound != m.fields.end())
     bound_ = bound->second;
@@ -66,8 +71,9 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m,
 StepRecord Stepper::advance(std::size_t k) {
   const std::vector<LoadStep>& steps = model_.path.steps;
   const bool predict = model_.cycle_predictor && k > 0;
-  const Grid& g = model_.half_space->grid();
-  guess_ = predict ? predictor_.find(steps.at(k - 1), steps.at(k), g.nx, g.ny) : nullptr;
+  const HalfSpace& hs = *model_.half_space;
+  guess_ = predict ? predictor_.find(steps.at(k - 1), steps.at(k), hs.grid().nx, hs.local_rows())
+                   : nullptr;
   shortcut_ = k > 0 && shortcut_applies(k);
   const MasingImage::Plan& mp = masing_plan_;
   if (!mp.image.empty() && mp.image[k])
@@ -118,14 +124,15 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
   Eigen::VectorXd Floc(op.components());
   for (int c = 0; c < op.components(); ++c)
     Floc(c) = state_.traction[c].sum() * op.grid().cell_area();
+  hs.communicator().sum({Floc.data(), std::size_t(Floc.size())});
   const Vec2 Fg = op.to_global(Floc);
   rec.Fx = Fg.x() + 0.0, rec.Fy = Fg.y() + 0.0;  // + 0.0: no -0 in the output
   rec.Ux = state_.shift.x() + 0.0, rec.Uy = state_.shift.y() + 0.0;
-  measure_areas(state_, op, rec);
+  measure_areas(state_, op, hs, rec);
   rec.kx = std::numeric_limits<double>::quiet_NaN();
   if (!substep_ && stiffness_wanted(model_, k, ls.turning))
     rec.kx = model_.stiffness->solve(state_.state).kx;
-  rec.edge_load_share = model_.scenario.grid.periodic ? 0.0 : edge_load_share(state_.pressure);
+  rec.edge_load_share = model_.scenario.grid.periodic ? 0.0 : edge_load_share(state_.pressure, hs);
   rec.dissipation = dissipation_;
   rec.wear_volume = wear_volume_;
   rec.convolutions = int(hs.convolutions() - conv0);
@@ -152,7 +159,7 @@ bool Stepper::normal_step(const LoadStep& ls, StepRecord& rec) {
   // changed between steps, so what it brings into contact touched at the step's start.
   load_moved_ = last_normal_.has_value() && !surface_changed_;
   indentation_start_ = state_.indentation;
-  solve_normal(ls, model_.surface, rec);
+  solve_normal(ls, local_surface(), rec);
   return true;
 }
 
@@ -164,7 +171,7 @@ void Stepper::solve_normal(const LoadStep& ls, const Field& z, StepRecord& rec) 
   // The solver measures delta from first touch at max(z); a worn surface's highest point may
   // lie below the original one, so delta is converted to the unworn surface's datum (its
   // growth under constant normal force is the wear's signature).
-  const double datum = model_.surface0.maxCoeff() - z.maxCoeff();
+  const double datum = model_.surface0.maxCoeff() - highest(z);
   Field start = state_.pressure;
   NormalResult r;
   try {
@@ -185,7 +192,7 @@ void Stepper::solve_normal(const LoadStep& ls, const Field& z, StepRecord& rec) 
   bound_start_.swap(bound_);  // the bound and pressure at the step's start (step_work)
   pressure_start_ = std::move(start);
   model_.friction->bound(state_, bound_);
-  check_edge_contact(model_.scenario, edge_load_share(state_.pressure),
+  check_edge_contact(model_.scenario, edge_load_share(state_.pressure, *model_.half_space),
                      "step " + std::to_string(rec.step));
   rec.normal_iterations = r.iterations;
   rec.normal_residual = r.residual;
@@ -203,7 +210,7 @@ bool Stepper::friction_step() {
   }
   Field g;
   model_.friction->bound(state_, g);
-  if ((g == bound_).all()) return false;
+  if (!model_.half_space->communicator().any(!(g == bound_).all())) return false;
   bound_.swap(g);
   return true;
 }
@@ -235,8 +242,9 @@ bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
   VecField u0e;
   Field theta;
   if (!model_.wear && load_moved_ && bound_moved_ &&
-      entry_fraction(gap_start(), pressure_start_, state_.pressure,
-                     model_.half_space->normal_self(), theta)) {
+      model_.half_space->communicator().any(
+          entry_fraction(gap_start(), pressure_start_, state_.pressure,
+                         model_.half_space->normal_self(), theta))) {
     entry_reference(theta, r.shift, state_.displacement, state_.traction, op.self_compliance(), u0,
                     u0e);
     inc.u0 = &u0e;
@@ -256,11 +264,11 @@ bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
 // plus the normal displacement of the start pressure (one convolution; recomputed rather than
 // kept from the last normal solve so that a resumed run repeats the uninterrupted one).
 Field Stepper::gap_start() {
-  const Field& z = model_.surface;
-  const double datum = model_.surface0.maxCoeff() - z.maxCoeff();
+  const Field& z = local_surface();
+  const double top = highest(z), datum = model_.surface0.maxCoeff() - top;
   Field uz;
   model_.half_space->normal(pressure_start_, uz);
-  return uz + (z.maxCoeff() - z) - (indentation_start_ - datum);
+  return uz + (top - z) - (indentation_start_ - datum);
 }
 
 // The increment's control and target in the operator's components: the shift increment from
@@ -353,11 +361,12 @@ void Stepper::accumulate_slip(const VecField& u0, const VecField* tau0, const Ei
   // bound to round-off).
   if (model_.friction->settles_within_step()) model_.friction->bound(state_, bound_);
   const double h2 = model_.half_space->grid().cell_area();
-  dissipation_ += work_.work.sum() * h2;
+  const Communicator& comm = model_.half_space->communicator();
+  dissipation_ += comm.sum(work_.work.sum()) * h2;
   if (!model_.wear) return;  // no wear arithmetic without a wear law
   const Field dh = model_.wear->increment(work_);
   state_.wear += dh;
-  wear_volume_ += dh.sum() * h2;
+  wear_volume_ += comm.sum(dh.sum()) * h2;
 }
 
 // Slip threshold of the state classification (m): the solver stops when the rms over the N
@@ -365,18 +374,33 @@ void Stepper::accumulate_slip(const VecField& u0, const VecField* tau0, const Ei
 // single node's error can reach sqrt(N) times that; kSlipThreshold is the margin on top.
 // |C g| costs one convolution, recomputed only when the bound changed.
 double Stepper::slip_threshold() {
-  if (scale_bound_.size() != bound_.size() || !(scale_bound_ == bound_).all()) {
+  const Communicator& comm = model_.half_space->communicator();
+  if (comm.any(scale_bound_.size() != bound_.size() || !(scale_bound_ == bound_).all())) {
     scale_bound_ = bound_;
     TangentialOperator& op = *model_.tangential_operator;
     VecField load = op.zeros(), u;
     load[0] = bound_;
     op.apply(load, u);
     const Field contact = (bound_ > 0.0).cast<double>();
-    const double n = contact.sum();
-    const double scale = n > 0.0 ? std::sqrt((contact * u[0].square()).sum() / n) : 0.0;
+    const double n = comm.sum(contact.sum());
+    const double scale = n > 0.0 ? std::sqrt(comm.sum((contact * u[0].square()).sum()) / n) : 0.0;
     slip_threshold_ = kSlipThreshold * std::sqrt(n) * model_.scenario.solver.tolerance * scale;
   }
   return slip_threshold_;
+}
+
+// This rank's slab of the indenter surface (the whole surface when serial): the surface is
+// an input, held whole on every rank like the scenario; the solves take their slab.
+const Field& Stepper::local_surface() {
+  const HalfSpace& hs = *model_.half_space;
+  if (!hs.communicator().distributed()) return model_.surface;
+  surface_slab_ = model_.surface.middleCols(hs.first_row(), hs.local_rows());
+  return surface_slab_;
+}
+
+// The largest height of a surface slab over the ranks (m).
+double Stepper::highest(const Field& z) const {
+  return model_.half_space->communicator().max(z.maxCoeff());
 }
 
 }  // namespace fretbem

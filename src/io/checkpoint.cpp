@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <map>
 #include <sstream>
@@ -21,8 +22,10 @@
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/hdf5.hpp"
 #include "fretbem/core/text_file.hpp"
+#include "fretbem/history/slab_state.hpp"
 #include "fretbem/io/replaced_results.hpp"
 #include "fretbem/io/result_metadata.hpp"
+#include "fretbem/parallel/rank_zero.hpp"
 
 namespace fretbem {
 
@@ -184,7 +187,15 @@ void write_wear(hid_t f, const WearCheckpoint& w) {
 
 // The whole checkpoint as the bytes of an HDF5 file, built with the in-memory (core) driver:
 // nothing touches the disk until write_file_atomically, whose every system call is checked.
-std::vector<char> checkpoint_image(const Model& model, const Stepper& stepper,
+// What a checkpoint holds of the stepper; the memory and the predictor's flat form are made
+// when written, one at a time (each as large as the state).
+struct StepperParts {
+  const InterfaceState& state;
+  std::function<StepperMemory()> memory;
+  std::function<std::vector<double>()> predictor;
+};
+
+std::vector<char> checkpoint_image(const Model& model, const StepperParts& stepper,
                                    const WearCheckpoint* wear) {
   hdf5::Plist fapl(H5Pcreate(H5P_FILE_ACCESS));
   if (!fapl.valid() || H5Pset_fapl_core(fapl.get(), 1 << 20, 0) < 0) write_failed("(set-up)");
@@ -199,11 +210,11 @@ std::vector<char> checkpoint_image(const Model& model, const Stepper& stepper,
   io::write_file_attributes(f.get(), model.scenario.grid, model.scenario.output.dir,
                             "fretbem checkpoint", "checkpoint");
   write_text(f.get(), "scenario", model.scenario.resolved_text);
-  write_state(f.get(), stepper.state());
+  write_state(f.get(), stepper.state);
   write_memory(f.get(), stepper.memory());
   write_field(f.get(), "surface", model.surface);
-  if (!stepper.predictor().empty())
-    write_vector(f.get(), "predictor", stepper.predictor().flatten());
+  if (const std::vector<double> p = stepper.predictor(); !p.empty())
+    write_vector(f.get(), "predictor", p);
   const InputDigest inputs = input_digest(model);
   write_text(f.get(), "input_digest_path", inputs.path);
   write_text(f.get(), "input_digest_surface", inputs.surface);
@@ -436,8 +447,10 @@ void probe_in_child(const fs::path& path) {
 
 }  // namespace
 
-void save_checkpoint(const fs::path& dir, const Model& model, const Stepper& stepper,
-                     const WearCheckpoint* wear) {
+namespace {
+
+void write_checkpoint(const fs::path& dir, const Model& model, const StepperParts& stepper,
+                      const WearCheckpoint* wear) {
   hdf5::silence();
   const std::vector<char> bytes = checkpoint_image(model, stepper, wear);
   try {  // DIR/checkpoint.h5.tmp, every call checked, then renamed over the previous one
@@ -446,6 +459,27 @@ void save_checkpoint(const fs::path& dir, const Model& model, const Stepper& ste
     throw std::runtime_error(std::string(e.what()) + " (the previous checkpoint, if any, is kept)");
   }
   drop_replaced_results(dir);  // the run now resumes from its own checkpoint
+}
+
+}  // namespace
+
+// On a distributed grid the state is gathered to rank 0, which writes the whole grid's
+// checkpoint, the same file a serial run writes (a resume may take another number of ranks).
+void save_checkpoint(const fs::path& dir, const Model& model, const Stepper& stepper,
+                     const WearCheckpoint* wear) {
+  const HalfSpace& hs = *model.half_space;
+  const Communicator& comm = hs.communicator();
+  if (!comm.distributed())
+    return write_checkpoint(dir, model,
+                            {stepper.state(), [&stepper] { return stepper.memory(); },
+                             [&stepper] { return stepper.predictor().flatten(); }},
+                            wear);
+  const InterfaceState state = gathered(hs, stepper.state());
+  const StepperMemory memory = gathered(hs, stepper.memory());
+  const std::vector<double> predictor = CyclePredictor::gathered(
+      stepper.predictor().flatten(), comm, Eigen::Index(hs.first_row()) * hs.grid().nx);
+  const StepperParts whole{state, [&memory] { return memory; }, [&predictor] { return predictor; }};
+  on_rank_zero(comm, [&] { write_checkpoint(dir, model, whole, wear); });
 }
 
 void reseal_checkpoint(const fs::path& file) {
@@ -480,8 +514,11 @@ void Checkpointer::on_step(const StepRecord& rec, const InterfaceState&, const M
   const bool turning = rec.turning && since >= 1.0;
   // A run replacing another's results keeps those until it has a checkpoint
   // (replaced_results.hpp), so it writes one after step 0.
-  const bool replacing = rec.step == 0 && replacing_results(dir_);
-  if (!(due || turning || last || replacing)) return;
+  // The clock and the folder are rank 0's: every rank of a distributed grid takes its answer.
+  const bool save = decided_on_rank_zero(model.half_space->communicator(), [&] {
+    return due || turning || last || (rec.step == 0 && replacing_results(dir_));
+  });
+  if (!save) return;
   save_checkpoint(dir_, model, stepper_);
   last_ = now;
 }

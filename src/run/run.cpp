@@ -1,15 +1,18 @@
 #include "fretbem/run/run.hpp"
 
 #include <cstdio>
+#include <optional>
 #include <system_error>
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/output_lock.hpp"
 #include "fretbem/history/model.hpp"
+#include "fretbem/history/slab_state.hpp"
 #include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/replaced_results.hpp"
 #include "fretbem/io/result_recovery.hpp"
 #include "fretbem/io/resume_check.hpp"
+#include "fretbem/parallel/rank_zero.hpp"
 #include "fretbem/run/stepped_run.hpp"
 #include "fretbem/run/wear_run.hpp"
 
@@ -38,31 +41,44 @@ int resume_wear(Model& model, const Checkpoint& cp, const std::filesystem::path&
 
 // A stepped run's checkpoint: result.h5 is never written in place (a kill may have torn it,
 // result_recovery.hpp); the stepper continues from the restored state and predictor.
+// On a distributed grid each rank takes its slab of the whole grid's checkpoint.
 int resume_steps(Model& model, const Checkpoint& cp, const std::filesystem::path& dir,
                  const RunOptions& options) {
   if (cp.wear)
     throw InputError((dir / "checkpoint.h5").string() + ": a wear run's, but no wear.law");
   const auto done = std::int64_t(cp.memory.next_step);
-  check_finished_rows(dir / "timeseries.csv", cp.memory.next_step);
-  warn_if_any(prepare_result_for_resume(dir, model, cp.run_id,
-                                        {.rows = cp.memory.next_step, .field_steps = done}));
+  const HalfSpace& hs = *model.half_space;
+  on_rank_zero(hs.communicator(), [&] {
+    check_finished_rows(dir / "timeseries.csv", cp.memory.next_step);
+    warn_if_any(prepare_result_for_resume(dir, model, cp.run_id,
+                                          {.rows = cp.memory.next_step, .field_steps = done}));
+  });
   model.surface = cp.surface;
   Stepper stepper(model);
-  const Grid& g = model.scenario.grid;
-  stepper.restore(cp.state, cp.memory,
-                  CyclePredictor::unflatten(cp.predictor, std::size_t(g.nx * g.ny),
+  const Eigen::Index first = Eigen::Index(hs.first_row()) * hs.grid().nx,
+                     cells = Eigen::Index(hs.local_rows()) * hs.grid().nx;
+  const std::vector<double>& predictor = hs.communicator().distributed()
+                                             ? CyclePredictor::sliced(cp.predictor, first, cells)
+                                             : cp.predictor;
+  stepper.restore(slab_of(hs, cp.state), slab_of(hs, cp.memory),
+                  CyclePredictor::unflatten(predictor, std::size_t(cells),
                                             model.tangential_operator->components()));
   return run_steps(model, stepper, long(cp.memory.next_step), options);
 }
 
 }  // namespace
 
-int run_scenario(const Scenario& scenario, const RunOptions& options) {
-  auto model = build_model(scenario);
+// On a grid distributed over ranks every rank builds the model (the same inputs, refused
+// alike) and rank 0 alone takes the folder: its lock, the results set aside, the files.
+int run_scenario(const Scenario& scenario, const RunOptions& options, const Communicator& comm) {
+  auto model = build_model(scenario, comm);
   const auto& dir = scenario.output.dir;
-  const OutputLock lock(dir);  // before the checks: no second run slips in between
-  warn_if_any(settle_replaced_results(dir));
-  prepare_output_dir(dir, options.overwrite);
+  std::optional<OutputLock> lock;
+  on_rank_zero(comm, [&] {
+    lock.emplace(dir);  // before the checks: no second run slips in between
+    warn_if_any(settle_replaced_results(dir));
+    prepare_output_dir(dir, options.overwrite);
+  });
   model->run_id = new_run_id();
   try {
     if (model->wear) return run_wear(*model, options.quiet, nullptr, options.stop_after).exit_code;
@@ -72,24 +88,29 @@ int run_scenario(const Scenario& scenario, const RunOptions& options) {
     // Failed before its first checkpoint: the results it was to replace are put back. Its
     // error is the one line to print; a folder that cannot be settled now is at the next run.
     try {
-      (void)settle_replaced_results(dir);
+      if (comm.rank() == 0) (void)settle_replaced_results(dir);
     } catch (const std::exception&) {
     }
     throw;
   }
 }
 
-int resume_run(const std::filesystem::path& dir, const RunOptions& options) {
-  std::error_code ec;
-  if (!std::filesystem::is_directory(dir, ec))
-    throw InputError(dir.string() + ": not a folder of a run to resume");
-  const OutputLock lock(dir);
-  warn_if_any(settle_replaced_results(dir));
-  check_output_files(dir);
+// Every rank reads the checkpoint (after rank 0 has settled the folder) and takes its slab.
+int resume_run(const std::filesystem::path& dir, const RunOptions& options,
+               const Communicator& comm) {
+  std::optional<OutputLock> lock;
+  on_rank_zero(comm, [&] {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec))
+      throw InputError(dir.string() + ": not a folder of a run to resume");
+    lock.emplace(dir);
+    warn_if_any(settle_replaced_results(dir));
+    check_output_files(dir);
+  });
   const Checkpoint cp = load_checkpoint(dir);
   Scenario sc = parse_scenario(cp.scenario_text, (dir / "checkpoint.h5").string(), ".", {});
   set_output_dir(sc, dir);
-  auto model = build_model(sc);
+  auto model = build_model(sc, comm);
   validate_checkpoint(cp, *model, dir / "checkpoint.h5");
   model->run_id = cp.run_id;
   return model->wear ? resume_wear(*model, cp, dir, options)

@@ -2,14 +2,17 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <string>
 
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/stop_signal.hpp"
+#include "fretbem/history/slab_state.hpp"
 #include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/resolution_report.hpp"
 #include "fretbem/io/run_output.hpp"
 #include "fretbem/io/run_tables.hpp"
+#include "fretbem/parallel/rank_zero.hpp"
 #include "fretbem/run/stop_report.hpp"
 
 namespace fretbem {
@@ -27,47 +30,107 @@ void print_summary(std::size_t steps, bool cyclic, const std::filesystem::path& 
               cycles.string().c_str(), h5.string().c_str());
 }
 
+// The observers that write the run's files and its terminal lines: on rank 0 only of a grid
+// distributed over ranks (serial: the one process).
+struct RunWriters {
+  TimeseriesCsv csv;
+  ResultFile h5;
+  CycleSummary cycles;
+  ProgressLine progress;
+  ResolutionReport resolution;
+
+  RunWriters(const Model& model, long resume_rows)
+      : csv(model.scenario.output.dir, resume_rows),
+        h5(model.scenario.output.dir, model, resume_rows),
+        // Written whole: a resumed run rebuilds its rows from the time series, under today's
+        // header.
+        cycles(model.scenario.output.dir, model.scenario.load.path, model.scenario.grid.h),
+        progress(model) {}
+};
+
+// A distributed grid's writers, called on rank 0 with the whole grid's state gathered to it;
+// an error there (a full disk, a non-finite column) is raised on every rank.
+class GatheredWriters final : public Observer {
+ public:
+  explicit GatheredWriters(std::vector<Observer*> writers) : writers_(std::move(writers)) {}
+  void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) override {
+    const InterfaceState whole = gathered(*model.half_space, state);
+    on_rank_zero(model.half_space->communicator(), [&] {
+      for (Observer* o : writers_) o->on_step(rec, whole, model);
+    });
+  }
+  void on_finish(const InterfaceState& state, const Model& model) override {
+    const InterfaceState whole = gathered(*model.half_space, state);
+    on_rank_zero(model.half_space->communicator(), [&] {
+      for (Observer* o : writers_) o->on_finish(whole, model);
+    });
+  }
+
+ private:
+  std::vector<Observer*> writers_;
+};
+
 // Stopped before the path's end: the checkpoint, the XDMF sidecar of what result.h5 holds, and
-// the line that says how to continue.
-int stop(Model& model, const Stepper& stepper, const ResultFile& h5) {
+// the line that says how to continue (rank 0's exit code on every rank).
+int stop(Model& model, const Stepper& stepper, const RunWriters* files) {
   const auto& dir = model.scenario.output.dir;
   save_checkpoint(dir, model, stepper);
-  h5.write_xdmf();
   // Steps count rows of timeseries.csv: row 0 is the normal loading (as `check` counts).
   const std::string where =
       std::to_string(stepper.next_step()) + " of " + std::to_string(stepper.steps()) + " steps";
-  return report_stop(where, dir);
+  long code = 0;
+  const Communicator& comm = model.half_space->communicator();
+  const int sig = int(comm.max(double(stop_signal())));  // a signal may reach one rank only
+  on_rank_zero(comm, [&] {
+    files->h5.write_xdmf();
+    code = report_stop(where, dir, sig);
+  });
+  return int(broadcast_count(comm, code));
+}
+
+void finish(const Model& model, const Stepper& stepper, const RunWriters& files) {
+  const PathType path = model.scenario.load.path;
+  print_summary(stepper.steps(), path == PathType::sine || path == PathType::table,
+                files.csv.path(), model.scenario.output.dir / "cycles.csv", files.h5.path());
+  const ResolutionReport& resolution = files.resolution;
+  if (!resolution.summary().empty()) std::printf("  %s\n", resolution.summary().c_str());
+  for (const auto& w : resolution.warnings()) std::fprintf(stderr, "fretbem: %s\n", w.c_str());
 }
 
 }  // namespace
 
 int run_steps(Model& model, Stepper& stepper, long resume_rows, const RunOptions& options) {
   const auto& dir = model.scenario.output.dir;
-  TimeseriesCsv csv(dir, resume_rows);
-  ResultFile h5(dir, model, resume_rows);
-  // cycles.csv is written whole: a resumed run rebuilds its rows from the time series (below),
-  // under today's header.
-  CycleSummary cycles(dir, model.scenario.load.path, model.scenario.grid.h);
-  Checkpointer checkpoint(dir, stepper, model.scenario.output.checkpoint_every);
-  ProgressLine progress(model);
-  ResolutionReport resolution;
+  const Communicator& comm = model.half_space->communicator();
   // A resumed run's cycle rows and resolution measures start from the rows already written.
-  if (resume_rows > 0)
-    for (const auto& r : read_timeseries(dir, std::size_t(resume_rows)))
-      for (Observer* o : {static_cast<Observer*>(&cycles), static_cast<Observer*>(&resolution)})
-        o->on_step(r, stepper.state(), model);
-  std::vector<Observer*> obs{&csv, &h5, &cycles, &checkpoint, &resolution};
-  if (!options.quiet) obs.push_back(&progress);
+  const InterfaceState resumed =
+      resume_rows > 0 ? gathered(*model.half_space, stepper.state()) : InterfaceState();
+  std::unique_ptr<RunWriters> files;
+  on_rank_zero(comm, [&] {
+    files = std::make_unique<RunWriters>(model, resume_rows);
+    if (resume_rows > 0)
+      for (const auto& r : read_timeseries(dir, std::size_t(resume_rows)))
+        for (Observer* o :
+             {static_cast<Observer*>(&files->cycles), static_cast<Observer*>(&files->resolution)})
+          o->on_step(r, resumed, model);
+  });
+  Checkpointer checkpoint(dir, stepper, model.scenario.output.checkpoint_every);
+  std::vector<Observer*> writers;
+  if (files) writers = {&files->csv, &files->h5, &files->cycles, &files->resolution};
+  if (files && !options.quiet) writers.push_back(&files->progress);
+  GatheredWriters gathered_writers(writers);
+  std::vector<Observer*> obs{&gathered_writers, &checkpoint};
+  if (!comm.distributed()) {  // the files before the checkpoint that refers to them
+    obs = {writers[0], writers[1], writers[2], &checkpoint, writers[3]};
+    if (!options.quiet) obs.push_back(&files->progress);
+  }
   const std::size_t budget = options.stop_after > 0 ? std::size_t(options.stop_after) : SIZE_MAX;
   // Step 0 (the normal loading) runs even when a stop was requested before it: a checkpoint
-  // without it holds no step to resume after (next_step = 0 is refused).
-  stepper.run(obs, budget, [&stepper] { return stepper.next_step() > 0 && stop_requested(); });
-  if (stepper.next_step() < stepper.steps()) return stop(model, stepper, h5);
-  const PathType path = model.scenario.load.path;
-  print_summary(stepper.steps(), path == PathType::sine || path == PathType::table, csv.path(),
-                dir / "cycles.csv", h5.path());
-  if (!resolution.summary().empty()) std::printf("  %s\n", resolution.summary().c_str());
-  for (const auto& w : resolution.warnings()) std::fprintf(stderr, "fretbem: %s\n", w.c_str());
+  // without it holds no step to resume after (next_step = 0 is refused). A signal reaches the
+  // ranks at different steps: the ranks stop when one has seen it.
+  stepper.run(obs, budget, [&] { return stepper.next_step() > 0 && comm.any(stop_requested()); });
+  if (stepper.next_step() < stepper.steps()) return stop(model, stepper, files.get());
+  on_rank_zero(comm, [&] { finish(model, stepper, *files); });
   return 0;
 }
 

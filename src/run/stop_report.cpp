@@ -8,7 +8,10 @@
 namespace fretbem {
 
 int report_stop(const std::string& where, const std::filesystem::path& dir) {
-  const int sig = stop_signal();
+  return report_stop(where, dir, stop_signal());
+}
+
+int report_stop(const std::string& where, const std::filesystem::path& dir, int sig) {
   if (sig == 0) {
     std::printf("fretbem: stopped after %s; continue with: fretbem run --resume %s\n",
                 where.c_str(), dir.string().c_str());

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fretbem/history/load_path.hpp"
+#include "fretbem/parallel/communicator.hpp"
 
 namespace fretbem {
 
@@ -46,6 +47,16 @@ class CyclePredictor {
   /// The memory `flatten` wrote, for a grid of `cells` cells and `components` traction
   /// components; throws std::runtime_error saying what is wrong on any inconsistency.
   static CyclePredictor unflatten(const std::vector<double>& v, std::size_t cells, int components);
+  /// On a grid distributed over ranks (slabs of whole rows j): the ranks' flat forms joined
+  /// into the whole grid's (on rank 0, empty elsewhere), `offset` the first cell of this
+  /// rank's slab; and the slab [offset, offset + cells) of a whole grid's flat form.
+  static std::vector<double> gathered(const std::vector<double>& v, const Communicator& comm,
+                                      Eigen::Index offset);
+  static std::vector<double> sliced(const std::vector<double>& v, Eigen::Index offset,
+                                    Eigen::Index cells);
+  /// The reduction layer of a distributed grid: the memory bound and the sharing of node
+  /// lists count every rank's nodes, so that all ranks keep the same entries (serial default).
+  void set_communicator(const Communicator& comm) { comm_ = &comm; }
 
  private:
   struct Entry {
@@ -57,6 +68,7 @@ class CyclePredictor {
   std::deque<Entry> entries_;
   std::size_t stored_ = 0;  ///< doubles and indices held (a shared node list once)
   VecField guess_;
+  const Communicator* comm_ = &serial_communicator();
 };
 
 }  // namespace fretbem

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "fretbem/history/load_path.hpp"
+#include "fretbem/parallel/communicator.hpp"
 
 namespace fretbem {
 
@@ -63,6 +64,16 @@ class MasingImage {
   /// for an nx x ny grid; throws std::runtime_error saying what is wrong on any inconsistency.
   std::vector<double> flatten() const;
   static MasingImage unflatten(const std::vector<double>& v, Eigen::Index nx, Eigen::Index ny);
+  /// On a grid distributed over ranks (slabs of whole rows j): the ranks' flat forms joined
+  /// into the whole grid's (on rank 0, empty elsewhere), `offset` the first cell of this
+  /// rank's slab; and the slab [offset, offset + cells) of a whole grid's flat form.
+  static std::vector<double> gathered(const std::vector<double>& v, const Communicator& comm,
+                                      Eigen::Index offset);
+  static std::vector<double> sliced(const std::vector<double>& v, Eigen::Index offset,
+                                    Eigen::Index cells);
+  /// The reduction layer of a distributed grid: the memory bound counts the nodes of every
+  /// rank, so that all ranks stop recording at the same level (serial by default).
+  void set_communicator(const Communicator& comm) { comm_ = &comm; }
 
  private:
   std::vector<Eigen::Index> nodes_;       ///< contact nodes of the virgin table
@@ -70,10 +81,11 @@ class MasingImage {
   std::vector<std::vector<double>> tau_;  ///< virgin traction on nodes_, per level
   double sign_ = 1.0;                     ///< direction of the virgin loading
   bool stops_at_memory_bound(Eigen::Index cells);
-  bool full_ = false;                     ///< the memory bound stopped recording
-  Field turning_;                         ///< traction at the last turning point
+  bool full_ = false;  ///< the memory bound stopped recording
+  Field turning_;      ///< traction at the last turning point
   double turning_level_ = 0.0;
   VecField image_;
+  const Communicator* comm_ = &serial_communicator();
 };
 
 }  // namespace fretbem

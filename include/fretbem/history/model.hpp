@@ -45,8 +45,12 @@ bool stiffness_wanted(const Model& model, int step, bool turning);
 std::unique_ptr<Model> prepare_model(const Scenario& sc);
 /// prepare_model, then the half-space operator and the solvers.
 /// Builds the surface and operators. The tangential operator is one-component (no y-solve)
-/// when the coupling is the analogy and the path is collinear.
-std::unique_ptr<Model> build_model(const Scenario& sc);
+/// when the coupling is the analogy and the path is collinear. With a distributed `comm` the
+/// half-space and the solvers work on this rank's slab of the grid (docs/mpi-grid.md); the
+/// surfaces stay whole on every rank (inputs, as the scenario), and what is not distributed
+/// yet is refused (InputError naming the key).
+std::unique_ptr<Model> build_model(const Scenario& sc,
+                                   const Communicator& comm = serial_communicator());
 /// solver.predictor resolved: cycle and none as said; auto: cycle when some transition of the
 /// path's load occurs again later (a periodic path) and the run's memory estimate with the
 /// predictor's memory (estimate_memory, cost_estimate.hpp) still fits in the usable memory.

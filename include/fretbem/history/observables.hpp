@@ -43,7 +43,9 @@ struct StepRecord {
 };
 
 /// Fills the areas and Fx_stick of a record from a classified interface state (x components
-/// from the operator's basis).
-void measure_areas(const InterfaceState& s, const TangentialOperator& op, StepRecord& r);
+/// from the operator's basis); on a distributed grid `s` holds this rank's slabs and the
+/// record the whole grid's values (hs's communicator).
+void measure_areas(const InterfaceState& s, const TangentialOperator& op, const HalfSpace& hs,
+                   StepRecord& r);
 
 }  // namespace fretbem

@@ -19,6 +19,8 @@ namespace fretbem {
 /// staircase; pi/4 E estimates the length of the curve it digitises, Cauchy–Crofton). For an
 /// annulus c < r < a it is (a^2 - c^2) / (2a), the width a - c when thin; 0 when nothing slips.
 double slip_ring_cells(const StateField& state);
+/// The same from the counts: N_slip slip nodes, E contact edges.
+double slip_ring_width(long slip_nodes, long contact_edges);
 /// A turning point at which the tangential load peaks (|F_t| not below the previous step's):
 /// where the slip ring is measured. The end of a sine path, reached while reloading through
 /// zero, is not one.

@@ -100,6 +100,8 @@ class Stepper {
   void accumulate_slip(const VecField& u0, const VecField* tau0, const Eigen::VectorXd& dU,
                        StepRecord& rec);
   double slip_threshold();
+  const Field& local_surface();
+  double highest(const Field& z) const;
 
   // Error-controlled steps (load.tolerance; defined in step_control.cpp).
   /// Everything a step changes in the stepper, to re-solve a step from its start.
@@ -162,6 +164,7 @@ class Stepper {
   double force_scale_ = 0.0;  ///< largest |F| (N) of the rows so far (load.tolerance > 0)
   double shift_scale_ = 0.0;  ///< largest |U| (m) of the rows so far
   bool depth_limit_said_ = false;
+  Field surface_slab_;  ///< local_surface on a distributed grid
 };
 
 }  // namespace fretbem

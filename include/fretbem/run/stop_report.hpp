@@ -11,5 +11,8 @@ namespace fretbem {
 /// line on stderr and 128 + the signal, as a shell reports a killed job. Both say how to
 /// continue.
 int report_stop(const std::string& where, const std::filesystem::path& dir);
+/// The same for a stop by signal `sig` (0: by --stop-after): on a grid distributed over ranks,
+/// the signal one of the ranks received.
+int report_stop(const std::string& where, const std::filesystem::path& dir, int sig);
 
 }  // namespace fretbem
