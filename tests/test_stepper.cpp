@@ -500,6 +500,90 @@ TEST(MasingImage, SecondCycleCostsWhatTheThirdCosts) {
   EXPECT_LT(double(reload), 0.5 * double(unload)) << reload << " " << unload;
 }
 
+namespace {
+
+// Cattaneo's virgin traction under displacement control on an n x n grid of the unit square:
+// tau_v = mu p0 [sqrt(1 - r^2/a^2) - sqrt((c^2 - r^2)/a^2)], zero where a root's argument is
+// negative, with c^2 = a^2 (1 - U/U*) (Johnson eqs. 7.41–7.42 eliminating the force). The
+// corrective term squared is linear in U at every node, so the secant through it is exact.
+Field cattaneo_traction(int n, double shift_ratio, double mu_p0) {
+  const double a = 0.25, c2 = a * a * (1.0 - shift_ratio), h = 1.0 / n;
+  Field t = Field::Zero(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double x = (i + 0.5) * h - 0.5, y = (j + 0.5) * h - 0.5, r2 = x * x + y * y;
+      if (r2 >= a * a) continue;
+      t(i, j) = mu_p0 * (std::sqrt(1.0 - r2 / (a * a)) - std::sqrt(std::max(c2 - r2, 0.0)) / a);
+    }
+  return t;
+}
+
+}  // namespace
+
+// The virgin secant start against Cattaneo's closed form: from the levels U = 0.2 and 0.35 U*
+// it gives the traction at 0.5 U* to round-off (the stick zone shrinks by a ring of nodes that
+// the secant turns to slip), where the previous level misses it by the whole increment.
+TEST(MasingImage, VirginSecantReproducesCattaneo) {
+  const int n = 64;
+  const double mu_p0 = 1.0;
+  const Field bound = cattaneo_traction(n, 1.0, mu_p0);  // mu p: the whole contact slips
+  MasingImage m;
+  EXPECT_EQ(m.virgin_start(0.2, bound), nullptr);
+  m.record_virgin(0.2, cattaneo_traction(n, 0.2, mu_p0), bound);
+  m.record_virgin(0.35, cattaneo_traction(n, 0.35, mu_p0), bound);
+  const VecField* start = m.virgin_start(0.5, bound);
+  ASSERT_NE(start, nullptr);
+  const Field exact = cattaneo_traction(n, 0.5, mu_p0);
+  const double step = (exact - cattaneo_traction(n, 0.35, mu_p0)).abs().maxCoeff();
+  EXPECT_GT(step, 0.05 * mu_p0);
+  EXPECT_LT(((*start)[0] - exact).abs().maxCoeff(), 1e-12 * mu_p0);
+}
+
+// Masing's rule with the branch secant against the closed form: after the reversal at
+// U_T = 0.6 U*, the branch's traction at shift U is tau_T - 2 tau_v((U_T - U)/2). With one
+// branch step solved (half change 0.1 U*) the secant runs from the turning point (tau_v = 0
+// at half change 0) to 0.2 U*; with two (0.1, 0.2) to 0.25 U*, between the virgin levels
+// 0.15 and 0.3 that the interpolated image would use. Both are exact to round-off.
+TEST(MasingImage, BranchSecantFollowsMasingsRule) {
+  const int n = 64;
+  const double ut = 0.6;
+  const Field bound = cattaneo_traction(n, 1.0, 1.0);
+  auto branch = [&](double u) {
+    return (cattaneo_traction(n, ut, 1.0) - 2.0 * cattaneo_traction(n, 0.5 * (ut - u), 1.0)).eval();
+  };
+  MasingImage m;
+  for (const double u : {0.15, 0.3, 0.45, 0.6})
+    m.record_virgin(u, cattaneo_traction(n, u, 1.0), bound);
+  m.record_turning(ut, cattaneo_traction(n, ut, 1.0));
+  m.record_branch(ut - 0.2, branch(ut - 0.2), bound);
+  const VecField* second = m.branch_start(ut - 0.4, bound);
+  ASSERT_NE(second, nullptr);
+  EXPECT_LT(((*second)[0] - branch(ut - 0.4)).abs().maxCoeff(), 1e-12);
+  m.record_branch(ut - 0.4, branch(ut - 0.4), bound);
+  const VecField* third = m.branch_start(ut - 0.5, bound);
+  ASSERT_NE(third, nullptr);
+  EXPECT_LT(((*third)[0] - branch(ut - 0.5)).abs().maxCoeff(), 1e-12);
+}
+
+// A start that continues the branch (the virgin secant, the Masing image, the branch secant)
+// is taken without the two force-shifted starts it used to be compared against (one product
+// each). Without preconditioning an increment's products are its CG steps, the start's image
+// and one verifying product per verification pass (counted as an iteration), so
+// convolutions - iterations is at most 1 + 1 (1 where the start meets the tolerance), plus one
+// for each update of the stick image when the force restoration meets a new stick set; with
+// the shifted starts it is 3–4. Checked on the
+// Mindlin–Deresiewicz cycle's virgin steps 2–8 and first unloading 9–24 (32 steps a cycle).
+TEST(MasingImage, ContinuedStartBuildsNoShiftedStarts) {
+  const Recorder r =
+      run(sphere_scenario(64, sine_load(0.6, 1, 32), "stiffness = none\nprecondition = off\n"));
+  int steps = 0, lean = 0;
+  for (int k = 2; k <= 24; ++k) {
+    const StepRecord& row = r.rows[std::size_t(k)];
+    ++steps, lean += row.convolutions - row.tangential_iterations <= 2 ? 1 : 0;
+  }
+  EXPECT_GE(lean, steps * 3 / 4) << lean << " of " << steps;
+}
+
 // An increment whose predictor already meets the solver's stopping rule costs the one product
 // that images it: under force control the starts it would be compared against (the stick
 // nodes shifted to the target force, and every contact node shifted: one product each) are

@@ -41,6 +41,10 @@ void Workspace::start(VecField& tau, VecField& u) {
     start_residual = {res, stick_slip2};
     return;
   }
+  if (guess && inc.guess_continues) {
+    tau = std::move(tg), u = std::move(ug), exact = true;
+    return;
+  }
   if (inc.control == TangentialControl::force) start_force(tau, u);
   if (guess && energy(tg, ug) < energy(tau, u))
     tau = std::move(tg), u = std::move(ug), exact = true;

@@ -76,12 +76,16 @@ StepRecord Stepper::advance(std::size_t k) {
                    : nullptr;
   shortcut_ = k > 0 && shortcut_applies(k);
   const MasingImage::Plan& mp = masing_plan_;
-  if (!mp.image.empty() && mp.image[k])
-    if (const VecField* image = masing_.image(mp.level[k])) guess_ = image;
+  const VecField* start = nullptr;
+  if (!mp.image.empty() && mp.image[k]) start = masing_.branch_start(mp.level[k], bound_);
+  if (!mp.virgin.empty() && mp.virgin[k] && !guess_)
+    start = masing_.virgin_start(mp.level[k], bound_);
+  guess_continues_ = start != nullptr;
+  if (start) guess_ = start;
   const bool controlled = model_.scenario.load.tolerance > 0.0;
   const StepRecord rec = controlled && k > 0 ? advance_controlled(k) : advance(steps.at(k), int(k));
   if (controlled) update_step_scales(rec);
-  guess_ = nullptr;
+  guess_ = nullptr, guess_continues_ = false;
   shortcut_ = false;
   if (!mp.virgin.empty() && mp.virgin[k])
     masing_.record_virgin(mp.level[k], state_.traction[0], bound_);
@@ -225,6 +229,7 @@ bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
   inc.tau0 = &tau0;
   inc.u0 = &u0;
   inc.guess = guess_;
+  inc.guess_continues = guess_continues_;
   set_target(ls, inc);
   const bool same_load = last_target_.size() == inc.target.size() &&
                          (inc.control == TangentialControl::force ? last_target_ == inc.target

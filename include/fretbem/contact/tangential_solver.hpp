@@ -42,6 +42,10 @@ struct TangentialIncrement {
   /// projected onto the discs and the force, it replaces the start when its QP energy is lower.
   /// It changes only where the iteration starts, never the converged answer's tolerance.
   const VecField* guess = nullptr;
+  /// The guess continues the solved branch to second order in the load step (the Masing
+  /// image, a secant): taken as the start whenever it is feasible, without building and
+  /// imaging the force-shifted starts it would otherwise be compared against (two products).
+  bool guess_continues = false;
 };
 
 /// Convergence report of one increment. residual: rms over contact nodes of the violation of

@@ -8,9 +8,10 @@
 // L the tangential load (force in N under force control, rigid shift in m under displacement
 // control) and tau_v(l) the virgin traction at load l. The virgin tractions are recorded while
 // the path loads monotonically from step 0 and interpolated linearly in the load between the
-// recorded levels ; the increment keeps the image only when its QP energy is below its own
-// start's (contact/workspace.cpp), so the image changes the cost, never the answer beyond the
-// solver tolerance.
+// recorded levels, or continued on the secant of the branch's last two solved steps; the
+// virgin steps start on the secant of the two last virgin levels. A start changes the cost,
+// never the answer beyond the solver tolerance (the solver iterates from it to its stopping
+// rule).
 #pragma once
 
 #include <vector>
@@ -58,6 +59,15 @@ class MasingImage {
   /// The image at load `level` on the branch from the last turning point, or nullptr when the
   /// load change lies beyond the recorded virgin levels. Valid until the next call.
   const VecField* image(double level);
+  /// The start of a branch step at load `level` (bound `bound`, Pa, constant on the path):
+  /// the image where the half change is a recorded level (exact), else the secant through the
+  /// last two steps solved on this branch (the turning point counting as one), else the
+  /// interpolated image; nullptr where the image is. Valid until the next call.
+  const VecField* branch_start(double level, const Field& bound);
+  /// The start of the next virgin step at load `level`: the secant through the two highest
+  /// recorded levels (load 0, where tau_v = 0, counting as one), or nullptr before the first
+  /// level or once the table is full. Valid until the next call.
+  const VecField* virgin_start(double level, const Field& bound);
 
   /// Restart support: the table and the branch origin as one flat list of numbers (the
   /// checkpoint's dataset `masing`; empty when nothing is recorded), and the image it holds
@@ -84,6 +94,11 @@ class MasingImage {
   bool full_ = false;  ///< the memory bound stopped recording
   Field turning_;      ///< traction at the last turning point
   double turning_level_ = 0.0;
+  std::vector<double> recent_;  ///< the last two half changes recorded on the current branch
+  /// tau_v continued past level i1 on the secant through level i0 (or load 0 when i0 is
+  /// none) to the half change `half`, on nodes_, with bound g on the full grid.
+  void continue_secant(std::ptrdiff_t i0, std::size_t i1, double half, const Field& g,
+                       double factor, Field& t) const;
   VecField image_;
   const Communicator* comm_ = &serial_communicator();
 };
