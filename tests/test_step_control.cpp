@@ -72,6 +72,37 @@ TEST(StepControl, InterpolatesTheLoadLinearlyBetweenRows) {
   EXPECT_FALSE(bound_moves_within(a, c));  // force then indentation: no common line
 }
 
+// The embedded estimate against the exact work: a bound quadratic and a slip rate linear in
+// time across two steps of unequal length; the exact integral of g ds over the second step
+// minus its trapezoid (g0 + g1)/2 |s1| is what trapezoid_work_error returns from the steps'
+// differences alone.
+TEST(StepControl, TrapezoidErrorIsExactForAQuadraticBoundAndLinearSlipRate) {
+  const double a = 3.0, b = -1.7, c = 2.3;  // g(t) = a + b t + c t^2
+  const double d = 0.8, e = -0.45;          // slip rate d + e t
+  auto g = [&](double t) { return a + t * (b + c * t); };
+  auto slip = [&](double t0, double t1) {  // integral of the rate
+    return d * (t1 - t0) + 0.5 * e * (t1 * t1 - t0 * t0);
+  };
+  auto work = [&](double t0, double t1) {  // integral of g times the rate, by its antiderivative
+    auto F = [&](double t) {
+      return a * d * t + (a * e + b * d) * t * t / 2 + (b * e + c * d) * t * t * t / 3 +
+             c * e * t * t * t * t / 4;
+    };
+    return F(t1) - F(t0);
+  };
+  // Round-off: the exact error is a difference of two works, each ~1e4 times it.
+  for (const auto& [h0, h1] : {std::pair{0.1, 0.1}, std::pair{0.1, 0.025}, std::pair{0.03, 0.2}}) {
+    const double t0 = 0.4, t1 = t0 + h0, t2 = t1 + h1;
+    const NodeStep s0{g(t1) - g(t0), slip(t0, t1)}, s1{g(t2) - g(t1), slip(t1, t2)};
+    const double exact = work(t1, t2) - 0.5 * (g(t1) + g(t2)) * s1.slip;
+    EXPECT_NEAR(trapezoid_work_error(s0, h0, s1, h1), exact, 1e-12 * work(t1, t2))
+        << h0 << " " << h1;
+    EXPECT_GT(std::abs(exact), 1e-6);
+  }
+  // A bound that stays put: the trapezoid is exact, and so is the estimate's zero.
+  EXPECT_EQ(trapezoid_work_error({0.0, 0.3}, 0.1, {0.0, 0.2}, 0.05), 0.0);
+}
+
 // A table is linear between its rows: the path of 16 rows a period has its own step limit,
 // the second period's dissipation of the same table with every interval split in 16 and 32
 // rows, by Richardson (order 2, the order of the nodal dissipation at fine steps,
