@@ -40,9 +40,10 @@ double load_P() {
 }
 
 // Dissipation over the second period (time in (1, 2]) of the varying table sampled at `rows`
-// rows a period, each interval split in `split` rows; rows_out: the number of rows written.
+// rows a period, each interval split in `split` rows; rows_out: the number of rows written,
+// convolutions: those of the run.
 double second_period_dissipation(int rows, int split, const std::string& extra_load,
-                                 std::size_t* rows_out = nullptr) {
+                                 std::size_t* rows_out = nullptr, long* convolutions = nullptr) {
   std::string tag = "table";
   tag += std::to_string(rows) + "_" + std::to_string(split);
   const fs::path table = temp_path(tag) += ".csv";
@@ -50,6 +51,10 @@ double second_period_dissipation(int rows, int split, const std::string& extra_l
   const auto r = fretbem_test::run_steps(varying_scenario(table, extra_load));
   fs::remove(table);
   if (rows_out) *rows_out = r.size();
+  if (convolutions) {
+    *convolutions = 0;
+    for (const StepRecord& row : r) *convolutions += row.convolutions;
+  }
   return fretbem_test::cycle_energy(r, 1).nodal;
 }
 
@@ -124,6 +129,23 @@ TEST(StepControl, MeetsTheAskedToleranceAgainstTheStepLimit) {
   EXPECT_GT(std::abs(fixed / limit - 1), 1e-3);
   EXPECT_LT(std::abs(controlled / limit - 1), 1e-3);
   EXPECT_EQ(controlled_rows, fixed_rows);
+}
+
+// A ten times tighter tolerance is met too, against the same limit; the fixed splits and the
+// controlled runs print their convolutions (docs/algorithms.md, "Run time against error").
+TEST(StepControl, MeetsATenTimesTighterTolerance) {
+  const double d16 = second_period_dissipation(16, 16, ""),
+               d32 = second_period_dissipation(16, 32, "");
+  const double limit = d32 + (d32 - d16) / 3.0;
+  for (int split : {1, 2, 4}) {
+    long conv = 0;
+    const double d = second_period_dissipation(16, split, "", nullptr, &conv);
+    std::printf("split %d: %+.3e, %ld convolutions\n", split, d / limit - 1, conv);
+  }
+  long conv = 0;
+  const double d = second_period_dissipation(16, 1, "tolerance = 1e-4\n", nullptr, &conv);
+  std::printf("tolerance 1e-4: %+.3e, %ld convolutions\n", d / limit - 1, conv);
+  EXPECT_LT(std::abs(d / limit - 1), 1e-4);
 }
 
 // At constant normal load the increment does not depend on the step: a run with
