@@ -40,9 +40,10 @@ double load_P() {
 }
 
 // Dissipation over the second period (time in (1, 2]) of the varying table sampled at `rows`
-// rows a period, each interval split in `split` rows; rows_out: the number of rows written.
+// rows a period, each interval split in `split` rows; rows_out: the number of rows written,
+// convolutions: those of the run.
 double second_period_dissipation(int rows, int split, const std::string& extra_load,
-                                 std::size_t* rows_out = nullptr) {
+                                 std::size_t* rows_out = nullptr, long* convolutions = nullptr) {
   std::string tag = "table";
   tag += std::to_string(rows) + "_" + std::to_string(split);
   const fs::path table = temp_path(tag) += ".csv";
@@ -50,6 +51,10 @@ double second_period_dissipation(int rows, int split, const std::string& extra_l
   const auto r = fretbem_test::run_steps(varying_scenario(table, extra_load));
   fs::remove(table);
   if (rows_out) *rows_out = r.size();
+  if (convolutions) {
+    *convolutions = 0;
+    for (const StepRecord& row : r) *convolutions += row.convolutions;
+  }
   return fretbem_test::cycle_energy(r, 1).nodal;
 }
 
@@ -70,6 +75,37 @@ TEST(StepControl, InterpolatesTheLoadLinearlyBetweenRows) {
   EXPECT_FALSE(bound_moves_within(a, c));  // constant normal load
   c.normal = {false, 14.0};
   EXPECT_FALSE(bound_moves_within(a, c));  // force then indentation: no common line
+}
+
+// The embedded estimate against the exact work: a bound quadratic and a slip rate linear in
+// time across two steps of unequal length; the exact integral of g ds over the second step
+// minus its trapezoid (g0 + g1)/2 |s1| is what trapezoid_work_error returns from the steps'
+// differences alone.
+TEST(StepControl, TrapezoidErrorIsExactForAQuadraticBoundAndLinearSlipRate) {
+  const double a = 3.0, b = -1.7, c = 2.3;  // g(t) = a + b t + c t^2
+  const double d = 0.8, e = -0.45;          // slip rate d + e t
+  auto g = [&](double t) { return a + t * (b + c * t); };
+  auto slip = [&](double t0, double t1) {  // integral of the rate
+    return d * (t1 - t0) + 0.5 * e * (t1 * t1 - t0 * t0);
+  };
+  auto work = [&](double t0, double t1) {  // integral of g times the rate, by its antiderivative
+    auto F = [&](double t) {
+      return a * d * t + (a * e + b * d) * t * t / 2 + (b * e + c * d) * t * t * t / 3 +
+             c * e * t * t * t * t / 4;
+    };
+    return F(t1) - F(t0);
+  };
+  // Round-off: the exact error is a difference of two works, each ~1e4 times it.
+  for (const auto& [h0, h1] : {std::pair{0.1, 0.1}, std::pair{0.1, 0.025}, std::pair{0.03, 0.2}}) {
+    const double t0 = 0.4, t1 = t0 + h0, t2 = t1 + h1;
+    const NodeStep s0{g(t1) - g(t0), slip(t0, t1)}, s1{g(t2) - g(t1), slip(t1, t2)};
+    const double exact = work(t1, t2) - 0.5 * (g(t1) + g(t2)) * s1.slip;
+    EXPECT_NEAR(trapezoid_work_error(s0, h0, s1, h1), exact, 1e-12 * work(t1, t2))
+        << h0 << " " << h1;
+    EXPECT_GT(std::abs(exact), 1e-6);
+  }
+  // A bound that stays put: the trapezoid is exact, and so is the estimate's zero.
+  EXPECT_EQ(trapezoid_work_error({0.0, 0.3}, 0.1, {0.0, 0.2}, 0.05), 0.0);
 }
 
 // A table is linear between its rows: the path of 16 rows a period has its own step limit,
@@ -93,6 +129,23 @@ TEST(StepControl, MeetsTheAskedToleranceAgainstTheStepLimit) {
   EXPECT_GT(std::abs(fixed / limit - 1), 1e-3);
   EXPECT_LT(std::abs(controlled / limit - 1), 1e-3);
   EXPECT_EQ(controlled_rows, fixed_rows);
+}
+
+// A ten times tighter tolerance is met too, against the same limit; the fixed splits and the
+// controlled runs print their convolutions (docs/algorithms.md, "Run time against error").
+TEST(StepControl, MeetsATenTimesTighterTolerance) {
+  const double d16 = second_period_dissipation(16, 16, ""),
+               d32 = second_period_dissipation(16, 32, "");
+  const double limit = d32 + (d32 - d16) / 3.0;
+  for (int split : {1, 2, 4}) {
+    long conv = 0;
+    const double d = second_period_dissipation(16, split, "", nullptr, &conv);
+    std::printf("split %d: %+.3e, %ld convolutions\n", split, d / limit - 1, conv);
+  }
+  long conv = 0;
+  const double d = second_period_dissipation(16, 1, "tolerance = 1e-4\n", nullptr, &conv);
+  std::printf("tolerance 1e-4: %+.3e, %ld convolutions\n", d / limit - 1, conv);
+  EXPECT_LT(std::abs(d / limit - 1), 1e-4);
 }
 
 // At constant normal load the increment does not depend on the step: a run with

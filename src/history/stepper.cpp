@@ -36,7 +36,11 @@ StepperMemory Stepper::memory() const {
   StepperMemory m{next_, last_normal_, last_target_, dissipation_, wear_volume_, {}, {}, {}};
   if (bound_.size() > 0) m.fields["bound"] = bound_;
   m.masing = masing_.flatten();
-  if (model_.scenario.load.tolerance > 0.0) m.step_scale = {force_scale_, shift_scale_};
+  if (model_.scenario.load.tolerance > 0.0) {
+    m.step_estimate = {estimate_memory_.span, error_rate_};
+    m.fields["step_bound_change"] = estimate_memory_.bound_change;
+    m.fields["step_slip"] = estimate_memory_.slip;
+  }
   for (std::size_t c = 0; c < pressure_slip_.size(); ++c)
     m.fields["pressure_slip" + std::to_string(c)] = pressure_slip_[c];
   return m;
@@ -60,9 +64,7 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m,
   last_target_ = m.last_target;
   dissipation_ = m.dissipation;
   wear_volume_ = m.wear_volume;
-  const bool scaled = m.step_scale.size() == 2;
-  force_scale_ = scaled ? m.step_scale[0] : 0.0;
-  shift_scale_ = scaled ? m.step_scale[1] : 0.0;
+  restore_estimate_memory(m);
   pressure_slip_.clear();
   const auto w0 = m.fields.find("pressure_slip0"), w1 = m.fields.find("pressure_slip1");
   if (w0 != m.fields.end() && w1 != m.fields.end()) pressure_slip_ = {w0->second, w1->second};
@@ -84,7 +86,6 @@ StepRecord Stepper::advance(std::size_t k) {
   if (start) guess_ = start;
   const bool controlled = model_.scenario.load.tolerance > 0.0;
   const StepRecord rec = controlled && k > 0 ? advance_controlled(k) : advance(steps.at(k), int(k));
-  if (controlled) update_step_scales(rec);
   guess_ = nullptr, guess_continues_ = false;
   shortcut_ = false;
   if (!mp.virgin.empty() && mp.virgin[k])
@@ -362,6 +363,7 @@ void Stepper::accumulate_slip(const VecField& u0, const VecField* tau0, const Ei
     state_.slip_path(k) += work_.slip(k) * slipping;
     state_.dissipation(k) += work_.work(k);
   }
+  if (model_.scenario.load.tolerance > 0.0) estimate_step();
   // The bound the next step starts from is the law's at the history just booked (the settled
   // bound to round-off).
   if (model_.friction->settles_within_step()) model_.friction->bound(state_, bound_);

@@ -172,7 +172,7 @@ void write_memory(hid_t f, const StepperMemory& m) {
   write_vector(f, "last_target", t);
   write_memory_fields(f, m.fields);
   if (!m.masing.empty()) write_vector(f, "masing", m.masing);
-  if (!m.step_scale.empty()) write_vector(f, "step_scale", m.step_scale);
+  if (!m.step_estimate.empty()) write_vector(f, "step_estimate", m.step_estimate);
 }
 
 // The wear part (wear runs only): scalars in one vector, the worn depth as a field.
@@ -357,7 +357,7 @@ StepperMemory read_memory(const Reader& r) {
   if (std::size_t(nt) + 1 != t.size()) r.fail("last_target length does not match its count");
   m.last_target = Eigen::Map<const Eigen::VectorXd>(t.data() + 1, Eigen::Index(nt));
   if (r.exists("masing")) m.masing = r.array("masing", nullptr);
-  if (r.exists("step_scale")) m.step_scale = r.vector("step_scale", 2);
+  if (r.exists("step_estimate")) m.step_estimate = r.vector("step_estimate", 2);
   if (!r.exists(kMemoryFields)) return m;
   std::istringstream names(r.text(kMemoryFields));
   for (std::string name; std::getline(names, name);)

@@ -1,7 +1,8 @@
-// Error-controlled load steps (load.tolerance): where the normal load changes over a step, the
-// Coulomb bound mu p moves within it and the increment depends on the step; the stepper then
-// compares one step with two half steps (step doubling) and halves the step where they differ
-// by more than the tolerance allows, down to kMaxStepDepth halvings. Sub-steps are internal: a
+// Error-controlled load steps (load.tolerance): where the normal load changes over a row, the
+// Coulomb bound mu p moves within it and the increment depends on the step. Every solved step
+// carries an embedded estimate of its error in the work, from the bound and slip of this step
+// and the one before (no second solve); a row whose normal load changes is solved in as many
+// equal sub-steps as the estimate's running rate and order ask for. Sub-steps are internal: a
 // row of the path stays one output row (docs/algorithms.md, "Error-controlled load steps").
 #pragma once
 
@@ -10,8 +11,8 @@
 
 namespace fretbem {
 
-/// Halvings of a row at most: 2^8 = 256 sub-steps.
-constexpr int kMaxStepDepth = 8;
+/// Sub-steps of a row at most.
+constexpr int kMaxSubsteps = 256;
 
 /// Whether the bound can move within the step from a to b, so that the step's solution depends
 /// on its length: the normal load changes (same control of the normal load and of the
@@ -24,24 +25,22 @@ bool bound_moves_within(const LoadStep& a, const LoadStep& b);
 /// b's; the interpolated load is no turning point.
 LoadStep interpolate_load(const LoadStep& a, const LoadStep& b, double theta);
 
-/// What step doubling compares at a step's end: the dissipation increment over the step (J)
-/// and the tangential force (N) and shift (m) at its end.
-struct StepEnd {
-  double dissipation_increment = 0.0;
-  Vec2 force{0.0, 0.0};
-  Vec2 shift{0.0, 0.0};
+/// One node's bound change (Pa) and booked slip length (m) over a step of `span` periods.
+struct NodeStep {
+  double bound_change = 0.0;
+  double slip = 0.0;
 };
 
-/// The run's scales the differences are measured against: dissipation per period (J), and the
-/// largest |F| (N) and |U| (m) so far. A zero scale drops its term.
-struct StepScales {
-  double dissipation = 0.0;
-  double force = 0.0;
-  double shift = 0.0;
-};
+/// The error (J/m^2, exact minus booked) of the work of one node over step 1 booked as the
+/// trapezoid (g0 + g1)/2 |s1|, from step 0 (the step before, span h0) and step 1 (span h1):
+/// with g quadratic and the slip rate linear in time across both steps, the exact work
+/// minus the trapezoid is (h1^3/12)(g' s'' - g'' s') at step 1's midpoint, which in the steps'
+/// differences is h1^2 (dg0 |s1| - dg1 |s0|) / (6 h0 (h0 + h1)) (docs/algorithms.md).
+double trapezoid_work_error(const NodeStep& step0, double h0, const NodeStep& step1, double h1);
 
-/// The estimate of a step's error: the largest of |dD_1 - dD_2| / D, |F_1 - F_2| / F and
-/// |U_1 - U_2| / U between one step (1) and two half steps (2) over the same interval.
-double step_error(const StepEnd& one, const StepEnd& two, const StepScales& scales);
+/// Sub-steps for a row of `span` periods when the estimated error per period is `rate` x h^2
+/// in steps of h periods (the trapezoid's order; rate in 1/period^2): the fewest equal
+/// sub-steps that bring it to `tolerance`, between 1 and kMaxSubsteps; 1 without a rate yet.
+int substeps_for(double span, double rate, double tolerance);
 
 }  // namespace fretbem

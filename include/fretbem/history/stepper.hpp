@@ -36,9 +36,10 @@ struct StepperMemory {
   std::map<std::string, Field> fields;
   /// MasingImage::flatten of the stepper's Masing image (empty: none recorded).
   std::vector<double> masing;
-  /// load.tolerance > 0: the largest |F| (N) and |U| (m) of the rows so far, the scales of
-  /// step_control's estimate; empty otherwise.
-  std::vector<double> step_scale;
+  /// load.tolerance > 0: the duration (periods) of the last step and the estimate's running
+  /// rate (step_control.hpp); empty otherwise. The last step's bound change and
+  /// slip are the fields "step_bound_change" and "step_slip".
+  std::vector<double> step_estimate;
 };
 
 class Stepper {
@@ -104,24 +105,18 @@ class Stepper {
   double highest(const Field& z) const;
 
   // Error-controlled steps (load.tolerance; defined in step_control.cpp).
-  /// Everything a step changes in the stepper, to re-solve a step from its start.
-  struct Snapshot {
-    InterfaceState state;
-    Field bound, bound_start, pressure_start;
-    double indentation_start = 0.0, dissipation = 0.0, wear_volume = 0.0;
-    bool load_moved = false, bound_moved = false, surface_changed = false;
-    std::optional<NormalLoad> last_normal;
-    Eigen::VectorXd last_target;
-    VecField pressure_slip;
+  /// The step before the next one, as the embedded estimate reads it: per node its bound
+  /// change (Pa) and booked slip (m), its duration and the next step's (periods).
+  struct EstimateMemory {
+    Field bound_change, slip;
+    double span = 0.0, span_next = 0.0;
   };
-  Snapshot snapshot() const;
-  void restore_snapshot(const Snapshot& s);
   StepRecord advance_controlled(std::size_t k);
-  StepRecord substep(const LoadStep& ls, int k);
-  double refine(const Snapshot& start, const LoadStep& a, const LoadStep& b, const StepEnd& one,
-                int depth, int k, StepRecord& last);
-  StepScales step_scales(double t_end, const StepEnd& one, const StepEnd& two) const;
-  void update_step_scales(const StepRecord& rec);
+  double solve_substeps(const LoadStep& a, const LoadStep& b, int m, int k, StepRecord& last);
+  StepRecord estimated_substep(const LoadStep& ls, int k, double span);
+  void estimate_step();
+  void restore_estimate_memory(const StepperMemory& m);
+  void say_depth_limit(int k, double error, double span);
 
   Model& model_;
   InterfaceState state_;
@@ -159,11 +154,14 @@ class Stepper {
   bool substep_ = false;  ///< advancing a sub-step of a row: no kx (the row's end computes it)
   const VecField* row_guess_ = nullptr;  ///< the predictor of the row being subdivided
   double row_time_ = 0.0;                ///< its end time
-  double row_span_ = 0.0;                ///< its duration (periods)
   int substep_normal_iterations_ = 0, substep_tangential_iterations_ = 0;
   int substep_coupling_iterations_ = 0;
-  double force_scale_ = 0.0;  ///< largest |F| (N) of the rows so far (load.tolerance > 0)
-  double shift_scale_ = 0.0;  ///< largest |U| (m) of the rows so far
+  EstimateMemory estimate_memory_;  ///< load.tolerance > 0: the step before the next one
+  /// The estimate's running rate (1/period^2; < 0: none yet): a row's relative estimate over
+  /// its span x its sub-step squared, averaged over about a period of rows.
+  double error_rate_ = -1.0;
+  bool estimated_ = false;        ///< the step being advanced booked an increment
+  double step_work_error_ = 0.0;  ///< its estimated work error (J)
   bool depth_limit_said_ = false;
   Field surface_slab_;  ///< local_surface on a distributed grid
 };
