@@ -180,6 +180,7 @@ void write_wear(hid_t f, const WearCheckpoint& w) {
                 double(c.index), double(w.steps), double(w.rejected), double(w.next_snapshot),
                 double(w.cycles_rows), double(w.snapshots), w.implicit ? 1.0 : 0.0});
   write_field(f, "wear_worn", w.worn);
+  if (w.warm_pressure.size() > 0) write_field(f, "wear_warm_pressure", w.warm_pressure);
 }
 
 // The whole checkpoint as the bytes of an HDF5 file, built with the in-memory (core) driver:
@@ -370,6 +371,8 @@ std::optional<WearCheckpoint> read_wear(const Reader& r) {
   w.snapshots = count(r, "wear snapshots", v[11], 0, 9e15);
   w.implicit = v[12] != 0.0;
   w.worn = r.field("wear_worn");
+  // Without it the next evaluation starts cold.
+  if (r.exists("wear_warm_pressure")) w.warm_pressure = r.field("wear_warm_pressure");
   return w;
 }
 

@@ -124,6 +124,10 @@ WearCycles::WearCycles(Model& model, Stepper& stepper, std::vector<Observer*> ob
   // memory depends on the steps (static/kinetic, sine at n = 32: a loop without the period's
   // end wore 29 % more than cycle mode's periodic cycle).
   if (settles_) steady_ = rotated(cycle_, turn_);
+  // Masing's image needs the virgin curve from the traction-free state to the turning point:
+  // one monotone step (merged), and tractions collinear with the load.
+  masing_ = !settles_ && virgin_.size() == 1 && model.tangential_operator->components() == 1;
+  turning_a_ = &virgin_.back();
   // The period's end is not a turning point for the carried cycles' field output.
   cycle_.back().turning = false;
 }
@@ -134,7 +138,7 @@ void WearCycles::start() {
 
 StepRecord WearCycles::step(const LoadStep& ls, double time, bool emit) {
   const bool initial = &ls == &initial_;
-  StepRecord rec = stepper_.advance(ls, initial ? 0 : 1);
+  StepRecord rec = stepper_.advance(ls, initial ? 0 : 1, masing_guess(ls));
   rec.step = row_;
   rec.time = time;
   rec.cycle = int(std::floor(time + 1e-12));
@@ -144,18 +148,27 @@ StepRecord WearCycles::step(const LoadStep& ls, double time, bool emit) {
   return rec;
 }
 
-void WearCycles::fresh(const Field& worn) {
+// The state of an evaluation's start: traction-free on surface z0 - worn, the normal solve
+// warm-started from `pressure` (empty: cold, from a uniform pressure). The pressure only
+// starts the iteration, which runs to solver.tolerance, so the wear map moves with the start
+// within that tolerance; from a far start (a worn conforming annulus, thousands of nodes at
+// p < 1e-3 p_max) the normal solver restarts itself cold on stagnation (normal_solver.cpp).
+// Under solver.coupling = coupled the pressure at a step's start also sets the tangential
+// displacement it carries into that step, so there the start stays cold.
+void WearCycles::fresh(const Field& worn, const Field& pressure) {
+  traction_a_.clear(), reversed_a_.clear();
   model_.surface = model_.surface0 - worn;
-  // The normal solve starts cold (zero pressure): a warm start from another surface's
-  // pressure made the wear map depend on the evaluation order, and from a worn conforming
-  // annulus (thousands of nodes at p < 1e-3 p_max) it stalled Polonsky–Keer
-  // (docs/wear.md, "Normal solves on worn surfaces").
   InterfaceState s = InterfaceState::zeros(*model_.tangential_operator);
   s.wear = worn;
   StepperMemory m = stepper_.memory();
   m.last_normal.reset();  // forces the normal re-solve on the new surface
   m.last_target.resize(0);
   m.fields.clear();  // the bound and the pressure's slip follow from the zero state
+  const bool shaped = pressure.rows() == s.pressure.rows() && pressure.cols() == s.pressure.cols();
+  if (shaped && pressure.allFinite() && !model_.half_space->cross_coupled()) {
+    model_.friction->bound(s, m.fields["bound"]);  // the traction-free state's, as cold
+    s.pressure = pressure;
+  }
   m.wear_volume = worn.sum() * model_.scenario.grid.cell_area();
   stepper_.restore(s, m);
 }
@@ -167,16 +180,42 @@ WearCycle WearCycles::carried(double N) {
   return c;
 }
 
+// The normal solve starts from the last evaluation's pressure; on a loop that closes at once
+// the steps at the turning loads start from Masing's image of the first turning point. The
+// image's slip is -2 times the virgin step's, so it meets the solver's stopping rule in one
+// product when the virgin step's residual is at most half the tolerance, and is otherwise a
+// start a few iterations from the answer (rough_fretting_wear.ini, n = 128: 1 and 7 products
+// for the loop's two steps against 53 and 54 from the previous step's end).
 WearCycle WearCycles::steady(double N, const Field& worn) {
-  fresh(worn);
+  fresh(worn, warm_pressure_);
   stepper_.set_wear_cycle(N);  // named in a solver failure's message
   step(initial_, 0.0, false);
+  warm_pressure_ = stepper_.state().pressure;
   for (const auto& ls : virgin_) step(ls, 0.0, false);
+  if (masing_) {
+    traction_a_ = stepper_.state().traction;
+    reversed_a_ = traction_a_;
+    for (Field& t : reversed_a_) t = -t;
+  }
   const int passes = settles_ ? settle() : 0;
   WearCycle c = measure(N, steady_, double(index_) - turn_);
+  traction_a_.clear(), reversed_a_.clear();
   simulated_ += 1.0 + turn_ + passes;
   c.simulated = simulated_;
   return c;
+}
+
+// Masing's image for a loop step at the first turning point's load or its opposite (relative
+// 1e-12: the sine's turning loads are +-amplitude to round-off); null for any other step.
+const VecField* WearCycles::masing_guess(const LoadStep& ls) const {
+  if (traction_a_.empty() || ls.control != turning_a_->control ||
+      ls.relative != turning_a_->relative)
+    return nullptr;
+  const Vec2 a = turning_a_->target;
+  const double tol = 1e-12 * a.norm();
+  if ((ls.target - a).norm() <= tol) return &traction_a_;
+  if ((ls.target + a).norm() <= tol) return &reversed_a_;
+  return nullptr;
 }
 
 // Loops of the steady cycle, not emitted, until two in a row wear the same: the state at the
@@ -223,7 +262,8 @@ double WearCycles::initial_indentation() {
   return probe_loading(Field::Zero(model_.scenario.grid.nx, model_.scenario.grid.ny)).indentation;
 }
 
-void WearCycles::resume(const WearCounters& c) {
+void WearCycles::resume(const WearCounters& c, const Field& warm_pressure) {
+  warm_pressure_ = warm_pressure;
   simulated_ = c.simulated;
   evaluations_ = c.evaluations;
   row_ = c.rows;
@@ -242,7 +282,7 @@ Field WearCycles::pressure_on(const Field& worn) {
 // resumed row on (combination sweep seed 1 case 274).
 const InterfaceState& WearCycles::probe_loading(const Field& worn) {
   const double dissipation = stepper_.memory().dissipation;
-  fresh(worn);
+  fresh(worn, warm_pressure_);
   step(initial_, 0.0, false);
   StepperMemory m = stepper_.memory();
   m.dissipation = dissipation;

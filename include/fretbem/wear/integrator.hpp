@@ -80,9 +80,12 @@ struct WearCheckpoint {
   WearCounters counters;
   long steps = 0, rejected = 0;  ///< integrator steps so far (all invocations)
   long next_snapshot = 0;        ///< index into snapshot_cycles(wear.cycles)
-  long cycles_rows = 0;          ///< rows of cycles.csv (set by the log)
-  long snapshots = 0;            ///< snapshot groups written (set by the log)
-  bool implicit = false;         ///< ARKODE: the method in use (arkode chooses once, at N = 0)
+  /// ARKODE: the pressure (Pa) the next wear-map evaluation's normal solve starts from (empty:
+  /// cold; WearCycles::warm_pressure).
+  Field warm_pressure;
+  long cycles_rows = 0;   ///< rows of cycles.csv (set by the log)
+  long snapshots = 0;     ///< snapshot groups written (set by the log)
+  bool implicit = false;  ///< ARKODE: the method in use (arkode chooses once, at N = 0)
 };
 
 struct WearReport {
@@ -141,19 +144,24 @@ class WearCycles {
   double simulated() const { return simulated_; }
   int evaluations() const { return evaluations_; }
   WearCounters counters() const { return {simulated_, evaluations_, row_, index_}; }
-  /// Resume: continue the counters; the stepper state was restored by the caller, and the
-  /// surface changed since its last normal solve (cycle mode applies a cycle's wear before
-  /// every checkpoint).
-  void resume(const WearCounters& c);
+  /// Resume: continue the counters and the evaluations' warm start (warm_pressure; empty:
+  /// the next one starts cold); the stepper state was restored by the caller, and the surface
+  /// changed since its last normal solve (cycle mode applies a cycle's wear before every
+  /// checkpoint).
+  void resume(const WearCounters& c, const Field& warm_pressure = Field());
+  /// The pressure (Pa) the next steady() starts its normal solve from: the last steady()'s
+  /// (empty before the first). The worn surface moves little between evaluations.
+  const Field& warm_pressure() const { return warm_pressure_; }
 
  private:
-  void fresh(const Field& worn);
+  void fresh(const Field& worn, const Field& pressure = Field());
   /// The normal loading alone of surface z0 - worn from a traction-free state, silent and
   /// leaving the run's cumulative dissipation as it was; the stepper holds its state.
   const InterfaceState& probe_loading(const Field& worn);
   int settle();
   Field loop_wear();
   StepRecord step(const LoadStep& ls, double time, bool emit);
+  const VecField* masing_guess(const LoadStep& ls) const;
   WearCycle measure(double N, const std::vector<LoadStep>& steps, double t_shift);
 
   Model& model_;
@@ -165,6 +173,13 @@ class WearCycles {
   bool settles_ = false;  // the steady loop is run until it repeats (not closed at once)
   double simulated_ = 0.0;
   int evaluations_ = 0, row_ = 0, index_ = 0;
+  Field warm_pressure_;
+  // Masing's rule on a loop that closes at once (loop_closes_at_once) under the one-component
+  // analogy: the traction at the loop's load -target_a is -traction_a, back at target_a it is
+  // traction_a, the state of the first turning point (Mindlin & Deresiewicz 1953).
+  bool masing_ = false;
+  const LoadStep* turning_a_ = nullptr;  // the virgin loading's last step, in virgin_
+  VecField traction_a_, reversed_a_;     // empty outside steady()'s loop
 };
 
 /// Runs wear.integrator to wear.cycles, reporting its wear events (cycle, snapshot, step_done,
