@@ -180,7 +180,8 @@ void write_wear(hid_t f, const WearCheckpoint& w) {
                 double(c.index), double(w.steps), double(w.rejected), double(w.next_snapshot),
                 double(w.cycles_rows), double(w.snapshots), w.implicit ? 1.0 : 0.0});
   write_field(f, "wear_worn", w.worn);
-  if (w.warm_pressure.size() > 0) write_field(f, "wear_warm_pressure", w.warm_pressure);
+  if (w.warm.pressure.size() > 0) write_field(f, "wear_warm_pressure", w.warm.pressure);
+  if (w.warm.corrective.size() > 0) write_field(f, "wear_warm_corrective", w.warm.corrective);
 }
 
 // The whole checkpoint as the bytes of an HDF5 file, built with the in-memory (core) driver:
@@ -372,7 +373,8 @@ std::optional<WearCheckpoint> read_wear(const Reader& r) {
   w.implicit = v[12] != 0.0;
   w.worn = r.field("wear_worn");
   // Without it the next evaluation starts cold.
-  if (r.exists("wear_warm_pressure")) w.warm_pressure = r.field("wear_warm_pressure");
+  if (r.exists("wear_warm_pressure")) w.warm.pressure = r.field("wear_warm_pressure");
+  if (r.exists("wear_warm_corrective")) w.warm.corrective = r.field("wear_warm_corrective");
   return w;
 }
 
