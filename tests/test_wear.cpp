@@ -415,3 +415,79 @@ TEST(WearIntegrators, ExplicitPastStabilityCapsWarns) {
   EXPECT_TRUE(warnings(partial_slip(32, 2e-12, 20000, "dirk", 1e-2), &cap).empty());
   EXPECT_TRUE(warnings(partial_slip(32, 2e-12, 20000, "arkode", 1e-2), &cap).empty());
 }
+
+namespace {
+
+// Products of the rows a WearCycles emits (the measured loop of a steady cycle).
+struct ProductCount final : Observer {
+  long products = 0;
+  void on_step(const StepRecord& r, const InterfaceState&, const Model&) override {
+    products += r.convolutions;
+  }
+};
+
+}  // namespace
+
+// The steady loop of the wear map on the unworn Hertz contact under +-0.6 mu P starts its steps
+// from Masing's image of the first turning point A (-tau_A at -Q_A, tau_A back at Q_A), a start
+// the solver accepts in one product or finishes in a few iterations; from the previous step's
+// end each step is a whole solve (~50 products at n = 64). The loop stays the
+// Mindlin–Deresiewicz loop: its energy against Johnson eq. 7.60 within 1 %, the accuracy of
+// the Cattaneo shift at a = 20 cells (test_stepper: 1 % at 32 cells).
+TEST(WearMap, MasingLoopCostsFewProductsAndIsMindlins) {
+  auto m = model_of(partial_slip(64, 1e-13, 100, "arkode"));
+  Stepper st(*m);
+  ProductCount loop;
+  WearCycles cyc(*m, st, {&loop});
+  const WearCycle c = cyc.steady(0.0, Field::Zero(64, 64));
+  std::printf("[ masing loop ] %ld products\n", loop.products);
+  EXPECT_LE(loop.products, 12);
+  const Material& mat = m->scenario.material;
+  const double delta = closed_forms::hertz_approach(hertz_a(), kR);
+  const double ustar = closed_forms::full_sliding_shift(kMu, delta, mat.E_star(), mat.G_star());
+  const double W = closed_forms::mindlin_energy_per_cycle(0.6, kMu, kP, ustar);
+  std::printf("[ masing loop ] energy / Mindlin - 1 = %+.2e\n", c.energy / W - 1.0);
+  EXPECT_NEAR(c.energy / W, 1.0, 0.01);
+}
+
+// The normal solve of an evaluation starts from the previous evaluation's pressure, the virgin
+// step from the Ciavarella–Jäger superposition whose corrective solve starts from the previous
+// evaluation's p*: on an unchanged surface the normal and corrective solves meet their
+// stopping rules at once (at most 3 products each, against a cold normal solve's ~30) and the
+// superposition meets the tangential one (at most 3: its image and the force shift), so the
+// evaluation costs its loop and at most 9 products besides. From another surface's starts the
+// map is the cold one within 1e-3 of wear.rtol = 1e-3, so that ARKODE's error control sees a
+// function of the worn depth.
+TEST(WearMap, WarmStartedMapIsTheColdMap) {
+  const std::string text = partial_slip(64, 1e-13, 100, "arkode");
+  auto m = model_of(text);
+  Stepper st(*m);
+  ProductCount loop;
+  WearCycles cyc(*m, st, {&loop});
+  const HalfSpace& hs = *m->half_space;
+  auto c0 = hs.convolutions();
+  cyc.initial_indentation();  // a cold normal solve
+  const auto cold_normal = long(hs.convolutions() - c0);
+  const Field W0 = Field::Zero(64, 64);
+  c0 = hs.convolutions();
+  const WearCycle first = cyc.steady(0.0, W0);
+  const auto first_cost = long(hs.convolutions() - c0);
+  c0 = hs.convolutions();
+  loop.products = 0;
+  cyc.steady(0.0, W0);
+  const auto again = long(hs.convolutions() - c0);
+  std::printf("[ warm map ] cold normal %ld, first evaluation %ld, again %ld products (loop %ld)\n",
+              cold_normal, first_cost, again, loop.products);
+  EXPECT_LE(again, loop.products + 9);
+  // A worn depth of 5 % of the indentation in the shape of the wear: the warm start comes
+  // from the unworn surface's pressure, the cold one from a fresh model.
+  const Field W1 = first.rate * (0.05 * first.delta / first.rate.maxCoeff());
+  const Field warm = cyc.steady(0.0, W1).rate;
+  auto m2 = model_of(text);
+  Stepper st2(*m2);
+  WearCycles cold(*m2, st2);
+  const Field reference = cold.steady(0.0, W1).rate;
+  const double rel = (warm - reference).abs().maxCoeff() / reference.abs().maxCoeff();
+  std::printf("[ warm map ] max |w_warm - w_cold| / max w = %.3g\n", rel);
+  EXPECT_LE(rel, 1e-6);
+}

@@ -101,6 +101,15 @@ StepRecord Stepper::advance(std::size_t k) {
   return rec;
 }
 
+StepRecord Stepper::advance(const LoadStep& ls, int k, const VecField* guess) {
+  guess_ = guess;
+  struct Reset {
+    const VecField*& g;
+    ~Reset() { g = nullptr; }
+  } reset{guess_};
+  return advance(ls, k);
+}
+
 StepRecord Stepper::advance(const LoadStep& ls, int k) {
   HalfSpace& hs = *model_.half_space;
   const auto conv0 = hs.convolutions();

@@ -183,6 +183,8 @@ void write_wear(hid_t f, const WearCheckpoint& w) {
                 double(c.index), double(w.steps), double(w.rejected), double(w.next_snapshot),
                 double(w.cycles_rows), double(w.snapshots), w.implicit ? 1.0 : 0.0});
   write_field(f, "wear_worn", w.worn);
+  if (w.warm.pressure.size() > 0) write_field(f, "wear_warm_pressure", w.warm.pressure);
+  if (w.warm.corrective.size() > 0) write_field(f, "wear_warm_corrective", w.warm.corrective);
 }
 
 // The whole checkpoint as the bytes of an HDF5 file, built with the in-memory (core) driver:
@@ -381,6 +383,9 @@ std::optional<WearCheckpoint> read_wear(const Reader& r) {
   w.snapshots = count(r, "wear snapshots", v[11], 0, 9e15);
   w.implicit = v[12] != 0.0;
   w.worn = r.field("wear_worn");
+  // Without it the next evaluation starts cold.
+  if (r.exists("wear_warm_pressure")) w.warm.pressure = r.field("wear_warm_pressure");
+  if (r.exists("wear_warm_corrective")) w.warm.corrective = r.field("wear_warm_corrective");
   return w;
 }
 

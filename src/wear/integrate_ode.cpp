@@ -156,7 +156,7 @@ void OdeRun::resume_from(const WearCheckpoint& at) {
   t_ = at.N, cap_ = at.h_max;
   first_snap_ = std::size_t(at.next_snapshot);
   steps0_ = at.steps, rejected0_ = at.rejected;
-  cyc_.resume(at.counters);
+  cyc_.resume(at.counters, at.warm);
 }
 
 // A first steady cycle on the unworn surface: the N = 0 row, snapshot and stability cap.
@@ -273,6 +273,7 @@ void OdeRun::write_checkpoint(std::size_t i, bool snap, double h_next, long step
   at.steps = steps0_ + steps, at.rejected = rejected0_ + fails;
   at.next_snapshot = long(snap ? i + 1 : i);
   at.implicit = implicit_;
+  at.warm = cyc_.warm_start();
   log_.step_done(at);
 }
 

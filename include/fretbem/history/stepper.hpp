@@ -60,6 +60,10 @@ class Stepper {
   StepRecord advance(std::size_t k);
   /// Runs one step given explicitly (wear cycles replay the path's cycle); `index` is its row.
   StepRecord advance(const LoadStep& ls, int index);
+  /// The same with a predictor of the step's traction (Pa; TangentialIncrement::guess): where
+  /// the tangential solve starts when it is closer than the last step's end, never what it
+  /// converges to. Null: none.
+  StepRecord advance(const LoadStep& ls, int index, const VecField* guess);
   /// The indenter surface (Model::surface) changed: the next step re-solves the normal contact
   /// even at an unchanged normal load (docs/architecture.md, "Skip what a scene does not
   /// need": no normal re-solve when F_z, delta and the surface did not change).

@@ -74,6 +74,13 @@ struct WearCounters {
   int index = 0;           ///< simulated-cycle index (the integer part of a row's time)
 };
 
+/// Where a wear-map evaluation (WearCycles::steady) starts its normal-type solves: the last
+/// evaluation's pressure (Pa) and the corrective pressure p* of its virgin loading (Pa,
+/// Ciavarella–Jäger; empty where the loop is not Masing's). Empty: cold.
+struct WearWarmStart {
+  Field pressure, corrective;
+};
+
 /// Where a wear run stands after a finished wear step — a simulated cycle (cycle mode) or an
 /// accepted integrator step (ARKODE) — besides the stepper state: the wear part of a
 /// checkpoint (checkpoint.hpp).
@@ -85,9 +92,11 @@ struct WearCheckpoint {
   WearCounters counters;
   long steps = 0, rejected = 0;  ///< integrator steps so far (all invocations)
   long next_snapshot = 0;        ///< index into snapshot_cycles(wear.cycles)
-  long cycles_rows = 0;          ///< rows of cycles.csv (set by the log)
-  long snapshots = 0;            ///< snapshot groups written (set by the log)
-  bool implicit = false;         ///< ARKODE: the method in use (arkode chooses once, at N = 0)
+  /// ARKODE: where the next wear-map evaluation starts (WearCycles::warm_start).
+  WearWarmStart warm;
+  long cycles_rows = 0;   ///< rows of cycles.csv (set by the log)
+  long snapshots = 0;     ///< snapshot groups written (set by the log)
+  bool implicit = false;  ///< ARKODE: the method in use (arkode chooses once, at N = 0)
 };
 
 struct WearReport {
@@ -146,13 +155,16 @@ class WearCycles {
   double simulated() const { return simulated_; }
   int evaluations() const { return evaluations_; }
   WearCounters counters() const { return {simulated_, evaluations_, row_, index_}; }
-  /// Resume: continue the counters; the stepper state was restored by the caller, and the
-  /// surface changed since its last normal solve (cycle mode applies a cycle's wear before
-  /// every checkpoint).
-  void resume(const WearCounters& c);
+  /// Resume: continue the counters and the evaluations' warm start (empty: the next one
+  /// starts cold); the stepper state was restored by the caller, and the surface changed since
+  /// its last normal solve (cycle mode applies a cycle's wear before every checkpoint).
+  void resume(const WearCounters& c, const WearWarmStart& warm = {});
+  /// What the next steady() starts its normal-type solves from: the last steady()'s (empty
+  /// before the first). The worn surface moves little between evaluations.
+  const WearWarmStart& warm_start() const { return warm_; }
 
  private:
-  void fresh(const Field& worn);
+  void fresh(const Field& worn, const Field& pressure = Field());
   /// The grid's reduction layer (one rank: the identity).
   const Communicator& comm() const;
   /// Largest value of a field over the grid's ranks (collective).
@@ -163,6 +175,8 @@ class WearCycles {
   int settle();
   Field loop_wear();
   StepRecord step(const LoadStep& ls, double time, bool emit);
+  const VecField* start_of(const LoadStep& ls) const;
+  void superpose_virgin();
   WearCycle measure(double N, const std::vector<LoadStep>& steps, double t_shift);
 
   Model& model_;
@@ -174,6 +188,14 @@ class WearCycles {
   bool settles_ = false;  // the steady loop is run until it repeats (not closed at once)
   double simulated_ = 0.0;
   int evaluations_ = 0, row_ = 0, index_ = 0;
+  WearWarmStart warm_;
+  // Masing's rule on a loop that closes at once (loop_closes_at_once) under the one-component
+  // analogy: the traction at the loop's load -target_a is -traction_a, back at target_a it is
+  // traction_a, the state of the first turning point (Mindlin & Deresiewicz 1953).
+  bool masing_ = false;
+  const LoadStep* turning_a_ = nullptr;  // the virgin loading's last step, in virgin_
+  VecField traction_a_, reversed_a_;     // empty outside steady()'s loop
+  VecField superposed_;                  // the virgin step's start, empty outside it
 };
 
 /// Runs wear.integrator to wear.cycles, reporting its wear events (cycle, snapshot, step_done,
