@@ -5,7 +5,7 @@
 // rate, not each row's own estimate, sets the sub-steps: the rows' errors in the dissipation
 // cancel over a cycle (displacement control at 32 rows a period: rows off by up to 2 % of the
 // cycle's energy, the cycle by 1.4e-4), and sub-steps placed where rows' estimates peaked
-// missed a tolerance of 1e-4 that uniform steps of the same cost met (docs/algorithms.md).
+// missed a tolerance of 1e-4 that cheaper uniform steps met (docs/algorithms.md).
 #include "fretbem/history/step_control.hpp"
 
 #include <algorithm>

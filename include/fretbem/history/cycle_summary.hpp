@@ -34,8 +34,8 @@ struct CycleRow {
   double slip_ring_cells = 0;
   long contact_nodes = 0;
   double a_over_h = 0;
-  /// Sum of the cycle's step_error (StepRecord): the step-doubling estimate of its relative
-  /// error; 0 with load.tolerance = 0.
+  /// Sum of the cycle's step_error (StepRecord): the embedded estimate of its dissipation's
+  /// relative error; 0 with load.tolerance = 0.
   double step_error = 0;
 
   /// Column names of DIR/cycles.csv, in the order of values().

@@ -31,8 +31,9 @@ struct StepRecord {
   /// larger relative change of pressure or traction in the last one; 0 otherwise.
   int coupling_iterations = 0;
   double coupling_residual = 0;
-  /// load.tolerance > 0: the step-doubling estimate of the row's error (history/step_control.hpp),
-  /// relative to the run's scales, summed over its sub-steps; 0 where nothing was estimated.
+  /// load.tolerance > 0: the embedded estimate of the row's error in the dissipation
+  /// (history/step_control.hpp), relative to the dissipation per period, summed over its
+  /// sub-steps; 0 where nothing was estimated.
   double step_error = 0;
 
   /// Column names, in the order of values(); the first 18 are the README contract.

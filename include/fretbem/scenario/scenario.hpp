@@ -66,8 +66,9 @@ struct LoadSpec {
   /// load.allow_large_shift: run displacement amplitudes and table shifts past the small-slip
   /// bound (kMaxShiftOverContactRadius contact radii, history/preflight.hpp).
   bool allow_large_shift = false;
-  /// load.tolerance: the relative error a step where the normal load changes may carry
-  /// (history/step_control: step doubling, sub-steps within the row); 0: one solve a row.
+  /// load.tolerance: the relative error per period that the steps of rows whose normal load
+  /// changes may carry (history/step_control: an embedded estimate, sub-steps within the
+  /// row); 0: one solve a row.
   double tolerance = 0.0;
 };
 
