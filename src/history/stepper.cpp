@@ -296,13 +296,15 @@ bool Stepper::shortcut_applies(std::size_t k) const {
 // of the load increments (p* is a function of Q* or delta*, both linear in the path's target):
 // exact while the stick set holds, where p* is linear in the load. Both rows come from the
 // state and the checkpointed p*_2, so a resumed run starts every solve where the uninterrupted
-// one did.
+// one did. Error-controlled steps (load.tolerance) solve sub-steps between the path's rows,
+// whose loads the path's ratio does not describe: they start from p*_1 alone.
 Field Stepper::shortcut_start(int k) {
   const Material& mat = model_.scenario.material;
   Field p_star = (state_.pressure - state_.traction[0].abs() / mat.mu).max(0.0);
   Field start = p_star;
   const std::vector<LoadStep>& steps = model_.path.steps;
-  if (k >= 2 && shortcut_p_star_.size() == p_star.size()) {
+  const bool rows = model_.scenario.load.tolerance <= 0.0;
+  if (rows && k >= 2 && shortcut_p_star_.size() == p_star.size()) {
     const Vec2 e = model_.tangential_operator->direction();
     const LoadStep &a = steps.at(k - 2), &b = steps.at(k - 1), &c = steps.at(k);
     const double db = e.dot(b.target - a.target), dc = e.dot(c.target - b.target);
