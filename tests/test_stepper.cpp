@@ -161,6 +161,67 @@ TEST(Paths, MonotoneShortcutEqualsIncrementalRamp) {
   }
 }
 
+// The shortcut's corrective solve starts on the secant through the last two rows' p*,
+// extrapolated by the ratio of the load increments: on a stick set that holds over the three
+// rows p* is linear in the load, so the start is off by the two rows' own solve errors only,
+// (1 + 2r) tol at most (r = 1 here): one CG step and the confirming pass (cg::run counts it as
+// an iteration); the previous p* alone is a load step of 1e-6 away, 10^4 tolerances, and
+// needs several CG steps (8 here). No product
+// beyond the corrective solve's own (its start, one per CG step, the confirmation:
+// iterations + 1): the shear displacement is (E*/G*) mu K (p - p*) from the two normal
+// displacements at hand.
+TEST(Paths, ShortcutSecantStartOnAHeldStickSet) {
+  const fs::path table = fretbem_test::process_temp_dir() / "held_stick_set.csv";
+  {
+    std::ofstream t(table);
+    t << std::setprecision(17) << "time,Fz,Fx,Fy\n0,0.015,0,0\n";
+    for (int k = 1; k <= 4; ++k) t << k << ",0.015," << 0.00375 * (1 + 1e-6 * (k - 1)) << ",0\n";
+  }
+  const std::string load = "path = table\ntable = " + table.string();
+  const Recorder r = run(sphere_scenario(48, load, "monotone = shortcut\nstiffness = none\n"));
+  fs::remove(table);
+  ASSERT_EQ(r.rows.size(), 5u);
+  for (std::size_t k = 2; k < r.rows.size(); ++k) {
+    ASSERT_EQ(r.rows[k].stick_area, r.rows[1].stick_area) << k;
+    EXPECT_EQ(r.rows[k].convolutions, r.rows[k].tangential_iterations + 1) << k;
+    if (k >= 3) EXPECT_LE(r.rows[k].tangential_iterations, 2) << k;
+  }
+}
+
+// The shortcut with its secant starts against Cattaneo (Johnson eqs. 7.41-7.42) under a
+// displacement ramp: U/U* = 1 - (1 - q)^(2/3) and k_x = dQ/dU = (3/2) (mu P / U*) (1 - q)^(1/3)
+// at q = Q/(mu P). The discretisation error falls at least at first order in the cell size
+// (n = 32 -> 64 halves it or better) and at n = 64 is below h / (2a) = 1/32 (half a cell of
+// the contact radius a = 16 cells).
+TEST(Paths, ShortcutRampFollowsCattaneo) {
+  const Material m = [] {
+    Material x;
+    x.body1 = {1.0, 0.3};
+    return x;
+  }();
+  const double P = hertz_force(m.E_star()), muP = 0.5 * P;
+  const double ustar = fretbem_test::unit_full_sliding_shift(0.5);
+  std::ostringstream load;
+  load << std::setprecision(17) << "normal_force = " << P
+       << "\npath = ramp\ncontrol = displacement\ndisplacement_amplitude = " << 0.8 * ustar
+       << "\nsteps = 4";
+  double previous = 2.0;
+  for (int n : {32, 64}) {
+    const Recorder r = run(sphere_scenario(n, load.str(), "monotone = shortcut\n"));
+    double worst = 0.0;
+    for (std::size_t k = 1; k < r.rows.size(); ++k) {
+      const double q = closed_forms::cattaneo_force_ratio(r.rows[k].Ux / ustar);
+      const double kx = 1.5 * muP / ustar * std::cbrt(1 - q);
+      worst = std::max(worst, std::abs(r.rows[k].Fx / muP - q));
+      worst = std::max(worst, std::abs(r.rows[k].kx / kx - 1));
+    }
+    std::printf("n = %d: worst |Fx/muP - q|, |kx/kx_Cattaneo - 1| = %.3e\n", n, worst);
+    EXPECT_LT(worst, 0.5 * previous);
+    previous = worst;
+  }
+  EXPECT_LT(previous, 1.0 / 32);
+}
+
 // Direction angles: a ramp at 30 degrees gives the x ramp rotated (analogy, isotropic).
 TEST(Paths, DirectionAngleRotatesTheResponse) {
   const std::string load =

@@ -89,7 +89,9 @@ class NormalSolver::Iteration {
  public:
   Iteration(NormalSolver& s, bool force_control, double target, Field& p, bool warm)
       : s_(s), hs_(s.hs_), force_control_(force_control), target_(target), p_(p), cold_(!warm) {
-    pre_ = PreconditionDecision(s.opt_.precondition).for_grid(hs_.grid());
+    const PreconditionDecision decision(s.opt_.precondition);
+    const bool by_set = s.opt_.precondition_by_set && warm && !hs_.communicator().distributed();
+    pre_ = by_set ? decision.for_set((p_ > 0.0).cast<double>()) : decision.for_grid(hs_.grid());
   }
 
   // Gap on the current contact set S = {p > 0}; under force control delta is the multiplier

@@ -213,6 +213,10 @@ std::unique_ptr<Model> build_model(const Scenario& sc, const Communicator& comm)
   m->half_space->require_tolerance(sc.solver.tolerance, "solver.tolerance");
   NormalOptions nopt{sc.solver.tolerance, sc.solver.max_iterations, sc.solver.precondition};
   m->normal = std::make_unique<NormalSolver>(*m->half_space, nopt);
+  if (sc.solver.monotone == MonotoneMethod::shortcut) {
+    nopt.precondition_by_set = true;
+    m->corrective = std::make_unique<NormalSolver>(*m->half_space, nopt);
+  }
   const auto dir = m->path.collinear_direction();
   if (sc.solver.coupling == Coupling::analogy && dir)
     m->tangential_operator = std::make_unique<TangentialOperator>(*m->half_space, *dir);

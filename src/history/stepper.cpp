@@ -43,6 +43,7 @@ StepperMemory Stepper::memory() const {
   }
   for (std::size_t c = 0; c < pressure_slip_.size(); ++c)
     m.fields["pressure_slip" + std::to_string(c)] = pressure_slip_[c];
+  if (shortcut_p_star_.size() > 0) m.fields["shortcut_p_star"] = shortcut_p_star_;
   return m;
 }
 
@@ -68,6 +69,8 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m,
   pressure_slip_.clear();
   const auto w0 = m.fields.find("pressure_slip0"), w1 = m.fields.find("pressure_slip1");
   if (w0 != m.fields.end() && w1 != m.fields.end()) pressure_slip_ = {w0->second, w1->second};
+  const auto p_star = m.fields.find("shortcut_p_star");
+  shortcut_p_star_ = p_star != m.fields.end() ? p_star->second : Field();
 }
 
 StepRecord Stepper::advance(std::size_t k) {
@@ -77,6 +80,7 @@ StepRecord Stepper::advance(std::size_t k) {
   guess_ = predict ? predictor_.find(steps.at(k - 1), steps.at(k), hs.grid().nx, hs.local_rows())
                    : nullptr;
   shortcut_ = k > 0 && shortcut_applies(k);
+  if (!shortcut_) shortcut_p_star_ = Field();  // the secant start holds on the segment only
   const MasingImage::Plan& mp = masing_plan_;
   const VecField* start = nullptr;
   if (!mp.image.empty() && mp.image[k]) start = masing_.branch_start(mp.level[k], bound_);
@@ -309,6 +313,42 @@ bool Stepper::shortcut_applies(std::size_t k) const {
          m.scenario.solver.coupling == Coupling::analogy && m.path.monotone(0, k);
 }
 
+// Warm start of the shortcut's corrective solve: the previous row's p* = p - |tau| / mu (from
+// p itself the solve starts a whole segment away, slower than incremental steps), extrapolated
+// along the secant through the row before it, p*_start = p*_1 + r (p*_1 - p*_2), r the ratio
+// of the load increments (p* is a function of Q* or delta*, both linear in the path's target):
+// exact while the stick set holds, where p* is linear in the load. Both rows come from the
+// state and the checkpointed p*_2, so a resumed run starts every solve where the uninterrupted
+// one did. Error-controlled steps (load.tolerance) solve sub-steps between the path's rows,
+// whose loads the path's ratio does not describe: they start from p*_1 alone.
+Field Stepper::shortcut_start(int k) {
+  const Material& mat = model_.scenario.material;
+  Field p_star = (state_.pressure - state_.traction[0].abs() / mat.mu).max(0.0);
+  Field start = p_star;
+  const std::vector<LoadStep>& steps = model_.path.steps;
+  const bool rows = model_.scenario.load.tolerance <= 0.0;
+  if (rows && k >= 2 && shortcut_p_star_.size() == p_star.size()) {
+    const Vec2 e = model_.tangential_operator->direction();
+    const LoadStep &a = steps.at(k - 2), &b = steps.at(k - 1), &c = steps.at(k);
+    const double db = e.dot(b.target - a.target), dc = e.dot(c.target - b.target);
+    const bool same = a.control == c.control && b.control == c.control &&
+                      a.relative == c.relative && b.relative == c.relative;
+    if (same && db != 0.0) start = (p_star + (dc / db) * (p_star - shortcut_p_star_)).max(0.0);
+  }
+  shortcut_p_star_ = std::move(p_star);
+  return start;
+}
+
+// K p of the current pressure, the shortcut's p(F_z): one product per normal solution.
+const Field& Stepper::pressure_displacement() {
+  if (shortcut_pressure_.size() != state_.pressure.size() ||
+      !(shortcut_pressure_ == state_.pressure).all()) {
+    shortcut_pressure_ = state_.pressure;
+    model_.half_space->normal(shortcut_pressure_, shortcut_uz_);
+  }
+  return shortcut_uz_;
+}
+
 // Ciavarella–Jäger superposition instead of an incremental solve (monotone_shortcut.hpp); the
 // state, slip and dissipation bookkeeping are those of an incremental step to the same load.
 void Stepper::shortcut_step(const LoadStep& ls, StepRecord& rec) {
@@ -319,11 +359,8 @@ void Stepper::shortcut_step(const LoadStep& ls, StepRecord& rec) {
   const double scale = ls.relative ? mat.mu * state_.normal_force : 1.0;
   const double target = e.dot(ls.target * (ls.control == Control::force ? scale : 1.0));
   const double sign = target < 0.0 ? -1.0 : 1.0;
-  NormalSolver& ns = *model_.normal;
-  // The previous step's corrective pressure p* = p - |tau| / mu warm-starts this one: on the
-  // monotone segment Q* changes by one increment (from p itself the solve starts a whole
-  // segment away, slower than incremental steps).
-  const Field p_star0 = (state_.pressure - state_.traction[0].abs() / mat.mu).max(0.0);
+  NormalSolver& ns = model_.corrective ? *model_.corrective : *model_.normal;
+  const Field p_star0 = shortcut_start(rec.step);
   const ShortcutResult r =
       ls.control == Control::force
           ? ciavarella_jaeger_force(ns, model_.surface, state_.pressure, state_.normal_force,
@@ -332,7 +369,9 @@ void Stepper::shortcut_step(const LoadStep& ls, StepRecord& rec) {
                                     ratio, std::abs(target), &p_star0);
   const VecField u0 = state_.displacement;
   state_.traction[0] = sign * r.traction;
-  op.apply(state_.traction, state_.displacement);
+  // u = C tau = (E*/G*) K mu (p - p*) under the analogy (one kernel, HalfSpace): from the two
+  // normal displacements at hand instead of a product.
+  state_.displacement[0] = (sign * mat.mu * ratio) * (pressure_displacement() - ns.displacement());
   Eigen::VectorXd dU(1);
   dU(0) = sign * r.shift - e.dot(state_.shift);
   state_.shift += dU(0) * e;

@@ -18,6 +18,11 @@ struct NormalOptions {
   /// the kernel): fewer iterations at the price of a second convolution per iteration;
   /// automatic: PreconditionDecision::for_grid.
   Precondition precondition = Precondition::automatic;
+  /// Automatic preconditioning decided by the warm start's contact set
+  /// (PreconditionDecision::for_set, as the tangential and stiffness solves) instead of the
+  /// grid: for contacts of small patches, such as the Ciavarella–Jäger corrective problem's
+  /// stick zone on a rough surface, where the second product per iteration does not pay.
+  bool precondition_by_set = false;
 };
 
 /// Outcome of one normal solve. residual is the rms gap on the contact set plus the rms

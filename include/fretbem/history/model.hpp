@@ -22,6 +22,10 @@ struct Model {
   Field surface;   ///< current indenter height (m): changes only by wear
   std::unique_ptr<HalfSpace> half_space;
   std::unique_ptr<NormalSolver> normal;
+  /// The Ciavarella–Jäger corrective problem's normal solver (solver.monotone = shortcut;
+  /// null otherwise): preconditioned by its stick zone, and its displacement K p* kept apart
+  /// from the normal solution's.
+  std::unique_ptr<NormalSolver> corrective;
   std::unique_ptr<TangentialOperator> tangential_operator;
   std::unique_ptr<TangentialSolver> tangential;
   std::unique_ptr<StiffnessSolver> stiffness;  ///< null when solver.stiffness = none

@@ -101,6 +101,8 @@ class Stepper {
   Field gap_start();
   bool shortcut_applies(std::size_t k) const;
   void shortcut_step(const LoadStep& ls, StepRecord& rec);
+  Field shortcut_start(int k);
+  const Field& pressure_displacement();
   [[noreturn]] void fail(const StepRecord& rec, const SolverError& e, FailedSolve f) const;
   void accumulate_slip(const VecField& u0, const VecField* tau0, const Eigen::VectorXd& dU,
                        StepRecord& rec);
@@ -152,6 +154,10 @@ class Stepper {
   /// step of a wear cycle took the shortcut, reversals included, and the carried cycles of
   /// sweep seed 1 case 282 dissipated 25 % less than their closed loop.
   bool shortcut_ = false;
+  Field shortcut_pressure_, shortcut_uz_;  ///< pressure_displacement(): p (Pa) and K p (m)
+  /// p* (Pa) of the row before the last on the shortcut's segment: the secant start's second
+  /// point (checkpointed; empty off the segment).
+  Field shortcut_p_star_;
   /// Coupling::coupled: tangential displacement (m) of the pressure at the end of the last
   /// step (the start of this one); empty until first needed (and after a restore).
   VecField pressure_slip_;
