@@ -645,6 +645,36 @@ TEST(MasingImage, ContinuedStartBuildsNoShiftedStarts) {
   EXPECT_GE(lean, steps * 3 / 4) << lean << " of " << steps;
 }
 
+// A monotone force ramp (no branch follows) starts its steps from the second on at the virgin
+// secant, without the force-shifted starts: the same product count as on a cycle's virgin
+// quarter (MasingImage.ContinuedStartBuildsNoShiftedStarts), where before every step built
+// both shifted starts.
+TEST(MasingImage, MonotoneRampStartsOnTheSecant) {
+  const std::string ramp = "normal_force = " + std::to_string(hertz_force(1.0 / (1 - 0.09))) +
+                           "\npath = ramp\ncontrol = force\namplitude = 0.9\nsteps = 12";
+  const Recorder r = run(sphere_scenario(64, ramp, "stiffness = none\nprecondition = off\n"));
+  ASSERT_EQ(r.rows.size(), 13u);
+  int lean = 0;
+  for (std::size_t k = 2; k <= 12; ++k)
+    lean += r.rows[k].convolutions - r.rows[k].tangential_iterations <= 2 ? 1 : 0;
+  EXPECT_GE(lean, 8) << lean << " of 11";
+}
+
+// The virgin secant reads the last two virgin levels, which the checkpoint holds: a ramp
+// stopped after step 5 and resumed is byte-identical to the uninterrupted run.
+TEST(Resume, RampSecantIsCheckpointed) {
+  const std::string ramp = "normal_force = " + std::to_string(hertz_force(1.0 / (1 - 0.09))) +
+                           "\npath = ramp\ncontrol = displacement\n"
+                           "displacement_amplitude = 0.05\nsteps = 10";
+  const fs::path d = scenario_file("resume_ramp", sphere_scenario(48, ramp));
+  const std::string bin = FRETBEM_BINARY, ini = (d / "s.ini").string();
+  ASSERT_EQ(sh(bin + " run " + ini + " --quiet --out " + (d / "full").string()), 0);
+  ASSERT_EQ(sh(bin + " run " + ini + " --quiet --stop-after 5 --out " + (d / "part").string()), 0);
+  ASSERT_EQ(sh(bin + " run --quiet --resume " + (d / "part").string()), 0);
+  expect_same_run(d / "full", d / "part");
+  fs::remove_all(d);
+}
+
 // An increment whose predictor already meets the solver's stopping rule costs the one product
 // that images it: under force control the starts it would be compared against (the stick
 // nodes shifted to the target force, and every contact node shifted: one product each) are

@@ -58,9 +58,11 @@ MasingImage::Plan MasingImage::plan(const LoadPath& path, bool predictor) {
     if (d * sign < 0.0) break;
     kv = k;
   }
-  if (sign == 0.0 || kv + 1 >= n) return {};  // no branch follows a virgin segment
+  if (sign == 0.0) return {};
   p.image.assign(n, 0), p.virgin.assign(n, 0), p.turning.assign(n, 0);
   for (std::size_t k = 1; k <= kv; ++k) p.virgin[k] = 1;
+  p.branches = kv + 1 < n;
+  if (!p.branches) return p;  // a monotone path: only the virgin secant
   // Turning: the load's last change into k and its next change out of k have opposite signs.
   for (std::size_t k = 1; k + 1 < n; ++k) {
     const double in = p.level[k] - p.level[k - 1];
@@ -87,8 +89,10 @@ bool MasingImage::stops_at_memory_bound(Eigen::Index cells) {
   return full_;
 }
 
-void MasingImage::record_virgin(double level, const Field& tau, const Field& bound) {
+void MasingImage::record_virgin(double level, const Field& tau, const Field& bound, bool keep_all) {
   if (full_) return;
+  if (!keep_all && levels_.size() == 2)  // the secant reads the last two only
+    levels_.erase(levels_.begin()), tau_.erase(tau_.begin());
   if (comm_->sum(double(nodes_.size())) == 0.0) {
     for (Eigen::Index k = 0; k < bound.size(); ++k)
       if (bound(k) > 0.0) nodes_.push_back(k);

@@ -93,7 +93,7 @@ StepRecord Stepper::advance(std::size_t k) {
   guess_ = nullptr, guess_continues_ = false;
   shortcut_ = false;
   if (!mp.virgin.empty() && mp.virgin[k])
-    masing_.record_virgin(mp.level[k], state_.traction[0], bound_);
+    masing_.record_virgin(mp.level[k], state_.traction[0], bound_, mp.branches);
   if (!mp.image.empty() && mp.image[k])
     masing_.record_branch(mp.level[k], state_.traction[0], bound_);
   if (!mp.turning.empty() && mp.turning[k]) masing_.record_turning(mp.level[k], state_.traction[0]);

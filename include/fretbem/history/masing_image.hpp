@@ -42,6 +42,9 @@ class MasingImage {
   struct Plan {
     std::vector<char> image, virgin, turning;
     std::vector<double> level;
+    /// A branch follows the virgin segment (else the path is monotone: the virgin steps
+    /// start on the secant, and only the last two virgin levels are kept).
+    bool branches = false;
   };
   static Plan plan(const LoadPath& path, bool predictor);
   /// The plan of a model's run: empty unless the image is exact there (one traction component
@@ -49,8 +52,9 @@ class MasingImage {
   /// not `none` (which turns every warm start off).
   static Plan plan(const Model& model);
 
-  /// A virgin step solved at load `level` with traction `tau` (one component, Pa).
-  void record_virgin(double level, const Field& tau, const Field& bound);
+  /// A virgin step solved at load `level` with traction `tau` (one component, Pa); without
+  /// `keep_all` the levels below the last two are dropped (Plan::branches false).
+  void record_virgin(double level, const Field& tau, const Field& bound, bool keep_all = true);
   /// A step solved on a branch at load `level` with traction `tau`: by Masing's rule the
   /// virgin traction at its half change, recorded as a further level.
   void record_branch(double level, const Field& tau, const Field& bound);
