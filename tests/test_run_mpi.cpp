@@ -231,14 +231,18 @@ TEST(RunMpi, StepControlOnTwoRanksEqualsSerial) {
 }
 
 // --stop-after stops the run after a given step, checkpointed: the resumed run's files equal
-// the uninterrupted serial run's, resumed on the same two ranks, on three, and serially.
+// the uninterrupted serial run's, stopped on two ranks and resumed on the same two, on three
+// and serially, and stopped serially and resumed on two.
 TEST(RunMpi, ResumeOnRanksEqualsUninterruptedRun) {
   const fs::path d = scratch("run_mpi_resume");
   const Result s = run(0, small_mindlin(), d, "serial");
   ASSERT_EQ(s.status, 0) << s.err;
-  for (int resumed_on : {2, 3, 0}) {
-    const std::string out = "resumed" + std::to_string(resumed_on);
-    const Result stopped = run(2, small_mindlin() + " --stop-after 13", d, out);
+  // (ranks that stop, ranks that resume; 0: serial)
+  for (const auto& [stopped_on, resumed_on] :
+       std::vector<std::pair<int, int>>{{2, 2}, {2, 3}, {2, 0}, {0, 2}}) {
+    const std::string out =
+        "stopped" + std::to_string(stopped_on) + "_resumed" + std::to_string(resumed_on);
+    const Result stopped = run(stopped_on, small_mindlin() + " --stop-after 13", d, out);
     ASSERT_EQ(stopped.status, 0) << stopped.err;
     ASSERT_TRUE(fs::exists(d / out / "checkpoint.h5"));
     const std::string launcher = resumed_on > 0 ? mpirun(resumed_on) : std::string();
@@ -324,6 +328,12 @@ TEST(RunMpi, RefusalOnTwoRanksIsOneLine) {
   EXPECT_EQ(wear.status, 2) << wear.err;
   EXPECT_EQ(count(wear.err, "fretbem: error: wear.law under mpirun -n 2"), 1) << wear.err;
   EXPECT_FALSE(fs::exists(d / "wear" / "timeseries.csv"));
+  // A refusal only rank 0 can make (it alone looks into the folder) ends every rank alike.
+  ASSERT_EQ(run(0, small_mindlin(), d, "taken").status, 0);
+  const Result taken = run(2, small_mindlin(), d, "taken");
+  EXPECT_EQ(taken.status, 2) << taken.err;
+  EXPECT_EQ(count(taken.err, "fretbem: error:"), 1) << taken.err;
+  EXPECT_EQ(count(taken.err, "holds the results of another run"), 1) << taken.err;
   // The edge-contact refusal comes from the distributed normal solve of step 0, on every rank.
   const Result edge = run(2, small_mindlin() + " --set grid.length=1.2e-4", d, "edge");
   EXPECT_EQ(edge.status, 2) << edge.err;

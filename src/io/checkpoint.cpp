@@ -21,11 +21,11 @@
 #include "fretbem/core/fingerprint.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/hdf5.hpp"
+#include "fretbem/core/rank_zero.hpp"
 #include "fretbem/core/text_file.hpp"
 #include "fretbem/history/slab_state.hpp"
 #include "fretbem/io/replaced_results.hpp"
 #include "fretbem/io/result_metadata.hpp"
-#include "fretbem/parallel/rank_zero.hpp"
 
 namespace fretbem {
 

@@ -6,13 +6,13 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/output_lock.hpp"
+#include "fretbem/core/rank_zero.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/slab_state.hpp"
 #include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/replaced_results.hpp"
 #include "fretbem/io/result_recovery.hpp"
 #include "fretbem/io/resume_check.hpp"
-#include "fretbem/parallel/rank_zero.hpp"
 #include "fretbem/run/stepped_run.hpp"
 #include "fretbem/run/wear_run.hpp"
 

@@ -6,13 +6,13 @@
 #include <string>
 
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/rank_zero.hpp"
 #include "fretbem/core/stop_signal.hpp"
 #include "fretbem/history/slab_state.hpp"
 #include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/resolution_report.hpp"
 #include "fretbem/io/run_output.hpp"
 #include "fretbem/io/run_tables.hpp"
-#include "fretbem/parallel/rank_zero.hpp"
 #include "fretbem/run/stop_report.hpp"
 
 namespace fretbem {

@@ -1,4 +1,4 @@
-#include "fretbem/parallel/rank_zero.hpp"
+#include "fretbem/core/rank_zero.hpp"
 
 #include <stdexcept>
 #include <vector>
