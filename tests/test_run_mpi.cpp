@@ -192,8 +192,10 @@ std::string small_rough() {
          " --set solver.tolerance=1e-12";
 }
 
-// `args` run serially, then on two ranks and on three: the files equal.
-void expect_same_on_ranks(const std::string& args, const std::string& name) {
+// `args` run serially, then on two ranks and on three: the files equal, and the summary's
+// line `summary` is printed once.
+void expect_same_on_ranks(const std::string& args, const std::string& name,
+                          const std::string& summary = "steps done") {
   const fs::path d = scratch(name);
   const Result s = run(0, args, d, "serial");
   ASSERT_EQ(s.status, 0) << s.err;
@@ -201,9 +203,18 @@ void expect_same_on_ranks(const std::string& args, const std::string& name) {
     const std::string out = "mpi" + std::to_string(ranks);
     const Result m = run(ranks, args, d, out);
     ASSERT_EQ(m.status, 0) << m.err;
-    EXPECT_EQ(count(m.out, "steps done"), 1) << "one rank prints: " << m.out;
+    EXPECT_EQ(count(m.out, summary), 1) << "one rank prints: " << m.out;
     expect_same_run(d / "serial", d / out);
   }
+}
+
+// A short wear run at n = 32 to N = 200 with the state and wear fields: fretting_wear.ini (a
+// Hertz partial-slip contact, Archard, arkode: explicit steps and stretches of cycles one by
+// one) or rough_fretting_wear.ini (a rough surface, the energy law).
+std::string small_wear(const std::string& ini) {
+  return scenario(ini) +
+         " --set grid.n=32 --set wear.cycles=200 --set solver.tolerance=1e-12"
+         " --set output.fields=pressure,traction_x,state,slip_x,dissipation,wear";
 }
 }  // namespace
 
@@ -250,6 +261,38 @@ TEST(RunMpi, ResumeOnRanksEqualsUninterruptedRun) {
         shell(launcher + FRETBEM_BINARY + " run --quiet --resume " + (d / out).string(), d);
     ASSERT_EQ(r.status, 0) << r.err;
     expect_same_run(d / "serial", d / out);
+  }
+}
+
+// Wear runs: cycles.csv, the wear snapshots and final fields of result.h5 too.
+TEST(RunMpi, WearRunsOnTwoAndThreeRanksEqualSerial) {
+  expect_same_on_ranks(small_wear("fretting_wear.ini"), "run_mpi_wear", "fretbem: wear to N");
+  expect_same_on_ranks(small_wear("rough_fretting_wear.ini"), "run_mpi_rough_wear",
+                       "fretbem: wear to N");
+}
+
+// A wear run stopped on two ranks after a few wear steps (the explicit integrator's accepted
+// steps; cycle by cycle: simulated cycles) and resumed on two, on three and serially equals the
+// uninterrupted serial run.
+TEST(RunMpi, WearResumeOnRanksEqualsUninterruptedRun) {
+  const fs::path d = scratch("run_mpi_wear_resume");
+  for (const std::string& args : {small_wear("fretting_wear.ini"),
+                                  small_wear("fretting_wear.ini") + " --set wear.cycles=10"}) {
+    const Result s = run(0, args, d, "serial");
+    ASSERT_EQ(s.status, 0) << s.err;
+    for (int resumed_on : {2, 3, 0}) {
+      const std::string out = "resumed" + std::to_string(resumed_on);
+      fs::remove_all(d / out);
+      const Result stopped = run(2, args + " --stop-after 4", d, out);
+      ASSERT_EQ(stopped.status, 0) << stopped.err;
+      ASSERT_TRUE(fs::exists(d / out / "checkpoint.h5"));
+      const std::string launcher = resumed_on > 0 ? mpirun(resumed_on) : std::string();
+      const Result r =
+          shell(launcher + FRETBEM_BINARY + " run --quiet --resume " + (d / out).string(), d);
+      ASSERT_EQ(r.status, 0) << r.err;
+      expect_same_run(d / "serial", d / out);
+    }
+    fs::remove_all(d / "serial");
   }
 }
 
@@ -321,13 +364,13 @@ TEST(RunMpi, RefusalOnTwoRanksIsOneLine) {
   EXPECT_EQ(bad.status, 2) << bad.err;
   EXPECT_EQ(count(bad.err, "fretbem: error:"), 1) << bad.err;
   EXPECT_EQ(count(bad.err, "material.mu"), 1) << bad.err;
-  const Result wear = run(
-      2,
-      small_mindlin() + " --set wear.law=archard --set wear.coefficient=1e-12 --set wear.cycles=10",
-      d, "wear");
-  EXPECT_EQ(wear.status, 2) << wear.err;
-  EXPECT_EQ(count(wear.err, "fretbem: error: wear.law under mpirun -n 2"), 1) << wear.err;
-  EXPECT_FALSE(fs::exists(d / "wear" / "timeseries.csv"));
+  const Result kinetic = run(2,
+                             small_wear("fretting_wear.ini") +
+                                 " --set friction.law=static_kinetic --set friction.mu_kinetic=0.4",
+                             d, "kinetic");
+  EXPECT_EQ(kinetic.status, 2) << kinetic.err;
+  EXPECT_EQ(count(kinetic.err, "fretbem: error: friction.law under mpirun -n 2"), 1) << kinetic.err;
+  EXPECT_FALSE(fs::exists(d / "kinetic" / "timeseries.csv"));
   // A refusal only rank 0 can make (it alone looks into the folder) ends every rank alike.
   ASSERT_EQ(run(0, small_mindlin(), d, "taken").status, 0);
   const Result taken = run(2, small_mindlin(), d, "taken");

@@ -185,10 +185,6 @@ FftOptions fft_options(const Scenario& sc) {
 void refuse_undistributed(const Scenario& sc, const Communicator& comm) {
   if (!comm.distributed()) return;
   const std::string k = " under mpirun -n " + std::to_string(comm.size()) + ": ";
-  if (sc.wear.law != WearLaw::none)
-    throw InputError("wear.law" + k +
-                     "a wear run on a grid distributed over ranks is not available yet; run it "
-                     "without mpirun");
   if (sc.friction.law != FrictionLawKind::constant)
     throw InputError("friction.law" + k +
                      "only the constant law runs on a grid distributed over ranks; run it "

@@ -45,6 +45,16 @@ Field gathered(const HalfSpace& hs, const Field& slab) {
   return Eigen::Map<const Field>(all.data(), hs.grid().nx, hs.grid().ny);
 }
 
+// Gathered to rank 0, then broadcast: the size is the grid's on every rank.
+Field on_every_rank(const HalfSpace& hs, const Field& slab) {
+  const Communicator& comm = hs.communicator();
+  if (!comm.distributed()) return slab;
+  Field whole = gathered(hs, slab);
+  whole.resize(hs.grid().nx, hs.grid().ny);
+  comm.broadcast({whole.data(), std::size_t(whole.size())}, 0);
+  return whole;
+}
+
 Field slab_of(const HalfSpace& hs, const Field& whole) {
   if (!hs.communicator().distributed() || whole.size() == 0) return whole;
   return whole.middleCols(hs.first_row(), hs.local_rows());

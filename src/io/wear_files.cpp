@@ -5,7 +5,9 @@
 
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/stop_signal.hpp"
+#include "fretbem/history/slab_state.hpp"
 #include "fretbem/io/checkpoint.hpp"
+#include "fretbem/parallel/rank_zero.hpp"
 
 namespace fretbem {
 
@@ -39,53 +41,72 @@ std::string simulated_count(double simulated) {
   return format_count(std::round(simulated * 1e6) / 1e6);
 }
 
-WearFiles::WearFiles(const Model& model, const Stepper& stepper, ResultFile& h5, bool quiet,
+WearFiles::WearFiles(const Model& model, const Stepper& stepper, ResultFile* h5, bool quiet,
                      const WearCheckpoint* resume)
     : model_(model),
       stepper_(stepper),
-      csv_(open_csv(model.scenario.output.dir, "cycles", wear_columns(),
-                    resume ? resume->cycles_rows : -1)),
       h5_(h5),
-      progress_(!quiet) {
+      progress_(!quiet && model.half_space->communicator().rank() == 0) {
+  on_rank_zero(comm(), [&] {
+    csv_.emplace(open_csv(model.scenario.output.dir, "cycles", wear_columns(),
+                          resume ? resume->cycles_rows : -1));
+  });
   if (resume) rows_ = resume->cycles_rows, snapshots_ = resume->snapshots;
 }
 
+// A signal may reach the ranks at different times: all stop after the wear step in which one
+// saw it.
 bool WearFiles::stop_requested() const {
-  return fretbem::stop_requested();
+  return comm().any(fretbem::stop_requested());
 }
 
 void WearFiles::cycle(const WearCycle& c) {
-  const double s = model_.scenario.wear.indenter_share;
-  // N is the count a cycle stands for: integral in cycle mode and stretches (summed ones),
-  // where round-off must not print 2.9999999999999996 (format_count).
-  csv_.row({snap_count(c.N), c.energy, c.wear_volume, c.max_depth, c.contact_radius, c.stick_area,
-            c.peak_pressure, c.delta, c.max_slip, c.simulated, c.accepted ? 1.0 : 0.0,
-            s * c.wear_volume, (1.0 - s) * c.wear_volume});
   ++rows_;
-  if (c.accepted) last_accepted_ = {snap_count(c.N), c.energy};
-  progress(c.N, c.simulated);
+  on_rank_zero(comm(), [&] {
+    const double s = model_.scenario.wear.indenter_share;
+    // N is the count a cycle stands for: integral in cycle mode and stretches (summed ones),
+    // where round-off must not print 2.9999999999999996 (format_count).
+    csv_->row({snap_count(c.N), c.energy, c.wear_volume, c.max_depth, c.contact_radius,
+               c.stick_area, c.peak_pressure, c.delta, c.max_slip, c.simulated,
+               c.accepted ? 1.0 : 0.0, s * c.wear_volume, (1.0 - s) * c.wear_volume});
+    if (c.accepted) last_accepted_ = {snap_count(c.N), c.energy};
+    progress(c.N, c.simulated);
+  });
 }
 
 // The total worn depth (what the gap sees) and each body's share of it; and, at the end of
 // a simulated cycle, the fields asked of that state.
-void WearFiles::snapshot(double N, const Field& worn, const Field& p, bool cycle_end) {
-  if (cycle_end) h5_.save_fields(stepper_.state(), model_);
-  h5_.writer().write_step_fields(snapshots_++, N,
-                                 {{"worn_depth", worn},
-                                  {"worn_depth_indenter", indenter_worn(model_, worn)},
-                                  {"worn_depth_half_space", half_space_worn(model_, worn)},
-                                  {"pressure", p}},
-                                 "/wear/snapshot_");
+void WearFiles::snapshot(double N, const Field& worn_slab, const Field& p_slab, bool cycle_end) {
+  const HalfSpace& hs = *model_.half_space;
+  const Field worn = gathered(hs, worn_slab), p = gathered(hs, p_slab);
+  const InterfaceState state = cycle_end ? gathered(hs, stepper_.state()) : InterfaceState();
+  const std::int64_t group = snapshots_++;
+  on_rank_zero(comm(), [&] {
+    if (cycle_end) h5_->save_fields(state, model_);
+    h5_->writer().write_step_fields(group, N,
+                                    {{"worn_depth", worn},
+                                     {"worn_depth_indenter", indenter_worn(model_, worn)},
+                                     {"worn_depth_half_space", half_space_worn(model_, worn)},
+                                     {"pressure", p}},
+                                    "/wear/snapshot_");
+  });
 }
 
+// The checkpoint holds the whole grid's fields (save_checkpoint gathers the state's).
 void WearFiles::step_done(const WearCheckpoint& at) {
+  const HalfSpace& hs = *model_.half_space;
   WearCheckpoint c = at;
+  c.worn = gathered(hs, at.worn);
+  // A warm start is empty (cold) on every rank alike.
+  if (at.warm.pressure.size() > 0) c.warm.pressure = gathered(hs, at.warm.pressure);
+  if (at.warm.corrective.size() > 0) c.warm.corrective = gathered(hs, at.warm.corrective);
   c.cycles_rows = rows_, c.snapshots = snapshots_;
   save_checkpoint(model_.scenario.output.dir, model_, stepper_, &c);
 }
 
 // On stderr, with --quiet too: it says what the run will cost before it is spent.
 void WearFiles::warn(const std::string& line) {
+  if (comm().rank() != 0) return;
   progress_.finish();
   std::fprintf(stderr, "fretbem: %s\n", line.c_str());
 }

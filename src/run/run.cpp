@@ -25,17 +25,19 @@ void warn_if_any(const std::string& warning) {
 }
 
 // A wear run's checkpoint: its rows, fields and snapshots are checked and result.h5 rebuilt
-// to them, then the wear integration continues.
+// to them (by rank 0 of a distributed grid), then the wear integration continues.
 int resume_wear(Model& model, const Checkpoint& cp, const std::filesystem::path& dir,
                 const RunOptions& options) {
   if (!cp.wear) throw InputError((dir / "checkpoint.h5").string() + ": not a wear run's");
-  check_finished_rows(dir / "timeseries.csv", std::size_t(cp.wear->counters.rows));
-  check_finished_rows(dir / "cycles.csv", std::size_t(cp.wear->cycles_rows));
-  warn_if_any(prepare_result_for_resume(
-      dir, model, cp.run_id,
-      {.rows = std::size_t(cp.wear->counters.rows),
-       .field_steps = std::int64_t(cp.wear->counters.rows),  // fields are of rows
-       .snapshots = cp.wear->snapshots}));
+  on_rank_zero(model.half_space->communicator(), [&] {
+    check_finished_rows(dir / "timeseries.csv", std::size_t(cp.wear->counters.rows));
+    check_finished_rows(dir / "cycles.csv", std::size_t(cp.wear->cycles_rows));
+    warn_if_any(prepare_result_for_resume(
+        dir, model, cp.run_id,
+        {.rows = std::size_t(cp.wear->counters.rows),
+         .field_steps = std::int64_t(cp.wear->counters.rows),  // fields are of rows
+         .snapshots = cp.wear->snapshots}));
+  });
   return run_wear(model, options.quiet, &cp, options.stop_after).exit_code;
 }
 

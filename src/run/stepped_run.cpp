@@ -10,6 +10,7 @@
 #include "fretbem/core/stop_signal.hpp"
 #include "fretbem/history/slab_state.hpp"
 #include "fretbem/io/checkpoint.hpp"
+#include "fretbem/io/gathered_writers.hpp"
 #include "fretbem/io/resolution_report.hpp"
 #include "fretbem/io/run_output.hpp"
 #include "fretbem/io/run_tables.hpp"
@@ -46,28 +47,6 @@ struct RunWriters {
         // header.
         cycles(model.scenario.output.dir, model.scenario.load.path, model.scenario.grid.h),
         progress(model) {}
-};
-
-// A distributed grid's writers, called on rank 0 with the whole grid's state gathered to it;
-// an error there (a full disk, a non-finite column) is raised on every rank.
-class GatheredWriters final : public Observer {
- public:
-  explicit GatheredWriters(std::vector<Observer*> writers) : writers_(std::move(writers)) {}
-  void on_step(const StepRecord& rec, const InterfaceState& state, const Model& model) override {
-    const InterfaceState whole = gathered(*model.half_space, state);
-    on_rank_zero(model.half_space->communicator(), [&] {
-      for (Observer* o : writers_) o->on_step(rec, whole, model);
-    });
-  }
-  void on_finish(const InterfaceState& state, const Model& model) override {
-    const InterfaceState whole = gathered(*model.half_space, state);
-    on_rank_zero(model.half_space->communicator(), [&] {
-      for (Observer* o : writers_) o->on_finish(whole, model);
-    });
-  }
-
- private:
-  std::vector<Observer*> writers_;
 };
 
 // Stopped before the path's end: the checkpoint, the XDMF sidecar of what result.h5 holds, and

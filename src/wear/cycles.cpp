@@ -6,6 +6,7 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/history/cycle_summary.hpp"
+#include "fretbem/history/slab_state.hpp"
 #include "fretbem/wear/integrator.hpp"
 
 namespace fretbem {
@@ -142,6 +143,16 @@ double WearCycles::largest(const Field& x) const {
   return comm().max(x.size() ? x.maxCoeff() : -HUGE_VAL);
 }
 
+// The model's surfaces are the whole grid on every rank (the scenario's input, and what
+// result.h5 and the checkpoint hold); worn depths are this rank's slab.
+void WearCycles::wear_to(const Field& worn) {
+  model_.surface = model_.surface0 - on_every_rank(*model_.half_space, worn);
+}
+
+Field WearCycles::worn() const {
+  return slab_of(*model_.half_space, model_.surface0 - model_.surface);
+}
+
 void WearCycles::start() {
   step(initial_, 0.0, true);
 }
@@ -167,7 +178,7 @@ StepRecord WearCycles::step(const LoadStep& ls, double time, bool emit) {
 // displacement it carries into that step, so there the start stays cold.
 void WearCycles::fresh(const Field& worn, const Field& pressure) {
   traction_a_.clear(), reversed_a_.clear(), superposed_.clear();
-  model_.surface = model_.surface0 - worn;
+  wear_to(worn);
   InterfaceState s = InterfaceState::zeros(*model_.tangential_operator);
   s.wear = worn;
   StepperMemory m = stepper_.memory();
@@ -239,12 +250,13 @@ void WearCycles::superpose_virgin() {
   const Field* start = shaped ? &c : nullptr;
   const bool force = ls.control == Control::force;
   const double target = e.dot(ls.target * (force && ls.relative ? mu * s.normal_force : 1.0));
+  const Field z = slab_of(*model_.half_space, model_.surface);  // the normal solver's slab
   try {
     const ShortcutResult r =
-        force ? ciavarella_jaeger_force(*model_.normal, model_.surface, s.pressure, s.normal_force,
-                                        delta, mu, ratio, std::abs(target), start)
-              : ciavarella_jaeger_shift(*model_.normal, model_.surface, s.pressure, delta, mu,
-                                        ratio, std::abs(target), start);
+        force ? ciavarella_jaeger_force(*model_.normal, z, s.pressure, s.normal_force, delta, mu,
+                                        ratio, std::abs(target), start)
+              : ciavarella_jaeger_shift(*model_.normal, z, s.pressure, delta, mu, ratio,
+                                        std::abs(target), start);
     superposed_ = {(target < 0.0 ? -1.0 : 1.0) * r.traction};
   } catch (const SolverError&) {
     superposed_.clear();
@@ -342,7 +354,7 @@ void WearCycles::apply(const Field& rate) {
   // The next cycle's normal solve is warm-started from this cycle's pressure (the tractions
   // are carried): the normal solver restarts itself when nodes leave contact in bulk and falls
   // back to a cold start on stagnation.
-  model_.surface -= rate;
+  model_.surface -= on_every_rank(*model_.half_space, rate);
   stepper_.surface_changed();
 }
 
@@ -352,7 +364,7 @@ void WearCycles::apply(const Field& rate) {
 WearCycle WearCycles::measure(double N, const std::vector<LoadStep>& steps, double t_shift) {
   const InterfaceState& s = stepper_.state();
   const Field wear0 = s.wear;
-  const Field worn = model_.surface0 - model_.surface;
+  const Field worn = this->worn();
   CycleMeter meter(stepper_.memory().dissipation, s.slip_path, comm());
   stepper_.set_wear_cycle(N);  // named in a solver failure's message
   for (const auto& ls : steps) meter.add(step(ls, ls.time + t_shift, true), s, ls.time);

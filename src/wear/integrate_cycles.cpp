@@ -26,7 +26,7 @@ WearReport integrate_cycles(Model& model, WearCycles& cyc, Observer& log,
   for (double N = N0; N <= N_end; N += 1.0) {
     WearCycle c = cyc.carried(N);
     if (next_snap < snaps.size() && snaps[next_snap] <= N) {
-      log.snapshot(N, model.surface0 - model.surface, cyc.pressure(), true);
+      log.snapshot(N, cyc.worn(), cyc.pressure(), true);
       ++next_snap;
     }
     if (N < N_end) cyc.apply(c.rate);  // the last cycle observes the final surface
@@ -35,7 +35,7 @@ WearReport integrate_cycles(Model& model, WearCycles& cyc, Observer& log,
     if (N >= N_end) break;
     WearCheckpoint at;
     at.N = N + 1.0;
-    at.worn = model.surface0 - model.surface;
+    at.worn = cyc.worn();
     at.counters = cyc.counters();
     at.steps = long(N) + 1;
     at.next_snapshot = long(next_snap);
@@ -46,7 +46,7 @@ WearReport integrate_cycles(Model& model, WearCycles& cyc, Observer& log,
       break;
     }
   }
-  rep.worn = model.surface0 - model.surface;
+  rep.worn = cyc.worn();
   rep.cycle_by_cycle = true;
   if (!rep.stopped) rep.N = N_end;
   rep.simulated_cycles = cyc.simulated();

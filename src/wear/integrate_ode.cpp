@@ -296,7 +296,7 @@ WearReport OdeRun::finish() {
     keep(rep_, std::move(c), log_);
     rep_.N = N_end_;
   }
-  model_.surface = model_.surface0 - rep_.worn;
+  cyc_.wear_to(rep_.worn);
   rep_.simulated_cycles = cyc_.simulated();
   rep_.rhs_evaluations = cyc_.evaluations();
   return std::move(rep_);

@@ -12,6 +12,9 @@ namespace fretbem {
 Field gathered(const HalfSpace& hs, const Field& slab);
 /// This rank's slab of a whole grid's field.
 Field slab_of(const HalfSpace& hs, const Field& whole);
+/// The whole grid's field on every rank from every rank's slab (what a whole surface needs of
+/// a worn depth). Serial: the field.
+Field on_every_rank(const HalfSpace& hs, const Field& slab);
 
 /// The stepper's state and memory with every field gathered (whole grid on rank 0, fields
 /// empty elsewhere; scalars everywhere); the cycle predictor's and Masing image's memory in

@@ -150,6 +150,10 @@ class WearCycles {
   Field pressure_on(const Field& worn);
   /// Removes one cycle's worn depth from the surface, z <- z - rate (cycle mode).
   void apply(const Field& rate);
+  /// Sets the model's surface to z0 - worn (collective on a distributed grid).
+  void wear_to(const Field& worn);
+  /// The model surface's worn depth z0 - z (m).
+  Field worn() const;
   /// Pressure of the last simulated step.
   const Field& pressure() const { return stepper_.state().pressure; }
   double simulated() const { return simulated_; }
