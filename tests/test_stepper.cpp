@@ -184,7 +184,9 @@ TEST(Paths, ShortcutSecantStartOnAHeldStickSet) {
   for (std::size_t k = 2; k < r.rows.size(); ++k) {
     ASSERT_EQ(r.rows[k].stick_area, r.rows[1].stick_area) << k;
     EXPECT_EQ(r.rows[k].convolutions, r.rows[k].tangential_iterations + 1) << k;
-    if (k >= 3) EXPECT_LE(r.rows[k].tangential_iterations, 2) << k;
+    if (k >= 3) {
+      EXPECT_LE(r.rows[k].tangential_iterations, 2) << k;
+    }
   }
 }
 

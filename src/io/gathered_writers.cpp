@@ -1,8 +1,8 @@
 #include "fretbem/io/gathered_writers.hpp"
 
+#include "fretbem/core/rank_zero.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/slab_state.hpp"
-#include "fretbem/parallel/rank_zero.hpp"
 
 namespace fretbem {
 

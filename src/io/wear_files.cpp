@@ -4,10 +4,10 @@
 #include <cstdio>
 
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/rank_zero.hpp"
 #include "fretbem/core/stop_signal.hpp"
 #include "fretbem/history/slab_state.hpp"
 #include "fretbem/io/checkpoint.hpp"
-#include "fretbem/parallel/rank_zero.hpp"
 
 namespace fretbem {
 

@@ -7,13 +7,13 @@
 
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
+#include "fretbem/core/rank_zero.hpp"
 #include "fretbem/core/stop_signal.hpp"
 #include "fretbem/history/slab_state.hpp"
 #include "fretbem/io/checkpoint.hpp"
 #include "fretbem/io/gathered_writers.hpp"
 #include "fretbem/io/run_output.hpp"
 #include "fretbem/io/wear_files.hpp"
-#include "fretbem/parallel/rank_zero.hpp"
 #include "fretbem/run/stop_report.hpp"
 
 namespace fretbem {
