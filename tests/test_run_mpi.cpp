@@ -241,6 +241,24 @@ TEST(RunMpi, StepControlOnTwoRanksEqualsSerial) {
   expect_same_run(d / "serial", d / "mpi");
 }
 
+namespace {
+
+// Runs ARGS (which stop early) on `stopped_on` ranks into D/OUT, resumes it on `resumed_on`
+// (0: serially) and compares it with the uninterrupted serial run in D/serial.
+void stop_and_resume(const fs::path& d, const std::string& args, int stopped_on, int resumed_on,
+                     const std::string& out) {
+  const Result stopped = run(stopped_on, args, d, out);
+  ASSERT_EQ(stopped.status, 0) << stopped.err;
+  ASSERT_TRUE(fs::exists(d / out / "checkpoint.h5"));
+  const std::string launcher = resumed_on > 0 ? mpirun(resumed_on) : std::string();
+  const Result r =
+      shell(launcher + FRETBEM_BINARY + " run --quiet --resume " + (d / out).string(), d);
+  ASSERT_EQ(r.status, 0) << r.err;
+  expect_same_run(d / "serial", d / out);
+}
+
+}  // namespace
+
 // --stop-after stops the run after a given step, checkpointed: the resumed run's files equal
 // the uninterrupted serial run's, stopped on two ranks and resumed on the same two, on three
 // and serially, and stopped serially and resumed on two.
@@ -251,16 +269,9 @@ TEST(RunMpi, ResumeOnRanksEqualsUninterruptedRun) {
   // (ranks that stop, ranks that resume; 0: serial)
   for (const auto& [stopped_on, resumed_on] :
        std::vector<std::pair<int, int>>{{2, 2}, {2, 3}, {2, 0}, {0, 2}}) {
-    const std::string out =
-        "stopped" + std::to_string(stopped_on) + "_resumed" + std::to_string(resumed_on);
-    const Result stopped = run(stopped_on, small_mindlin() + " --stop-after 13", d, out);
-    ASSERT_EQ(stopped.status, 0) << stopped.err;
-    ASSERT_TRUE(fs::exists(d / out / "checkpoint.h5"));
-    const std::string launcher = resumed_on > 0 ? mpirun(resumed_on) : std::string();
-    const Result r =
-        shell(launcher + FRETBEM_BINARY + " run --quiet --resume " + (d / out).string(), d);
-    ASSERT_EQ(r.status, 0) << r.err;
-    expect_same_run(d / "serial", d / out);
+    stop_and_resume(
+        d, small_mindlin() + " --stop-after 13", stopped_on, resumed_on,
+        "stopped" + std::to_string(stopped_on) + "_resumed" + std::to_string(resumed_on));
   }
 }
 
@@ -283,14 +294,7 @@ TEST(RunMpi, WearResumeOnRanksEqualsUninterruptedRun) {
     for (int resumed_on : {2, 3, 0}) {
       const std::string out = "resumed" + std::to_string(resumed_on);
       fs::remove_all(d / out);
-      const Result stopped = run(2, args + " --stop-after 4", d, out);
-      ASSERT_EQ(stopped.status, 0) << stopped.err;
-      ASSERT_TRUE(fs::exists(d / out / "checkpoint.h5"));
-      const std::string launcher = resumed_on > 0 ? mpirun(resumed_on) : std::string();
-      const Result r =
-          shell(launcher + FRETBEM_BINARY + " run --quiet --resume " + (d / out).string(), d);
-      ASSERT_EQ(r.status, 0) << r.err;
-      expect_same_run(d / "serial", d / out);
+      stop_and_resume(d, args + " --stop-after 4", 2, resumed_on, out);
     }
     fs::remove_all(d / "serial");
   }

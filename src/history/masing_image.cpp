@@ -262,54 +262,72 @@ MasingImage MasingImage::unflatten(const std::vector<double>& v, Eigen::Index nx
   return m;
 }
 
+namespace {
+
+// The flat form's header length and its count of recent half changes (flatten()).
+std::size_t header_of(const std::vector<double>& v) {
+  return v[0] == 1.0 ? 7 : 8;
+}
+std::size_t recent_of(const std::vector<double>& v) {
+  return header_of(v) == 8 ? std::size_t(v[7]) : 0;
+}
+
+}  // namespace
+
 // The flat form's parts per rank: nodes (shifted by the slab's first cell), each level's
 // values and the turning traction, each gathered in rank order, which is the order of the
-// cells (slabs are consecutive column blocks of the column-major grid).
+// cells (slabs are consecutive column blocks of the column-major grid); the header, levels and
+// recent half changes are the same on every rank.
 std::vector<double> MasingImage::gathered(const std::vector<double>& v, const Communicator& comm,
                                           Eigen::Index offset) {
-  if (!comm.distributed() || v.empty()) return v;  // levels are the same on every rank
+  if (!comm.distributed() || v.empty()) return v;
+  const std::size_t head = header_of(v), recent = recent_of(v);
   const auto m = std::size_t(v[4]), levels = std::size_t(v[5]);
-  std::vector<double> nodes(v.begin() + 7, v.begin() + long(7 + m));
+  std::vector<double> nodes(v.begin() + long(head), v.begin() + long(head + m));
   for (double& k : nodes) k += double(offset);
   const std::vector<double> all_nodes = comm.gather(nodes, 0);
-  std::vector<double> out(v.begin(), v.begin() + 7);
+  std::vector<double> out(v.begin(), v.begin() + long(head));
   out[4] = double(all_nodes.size());
   out.insert(out.end(), all_nodes.begin(), all_nodes.end());
-  const auto at_levels = v.begin() + long(7 + m);
+  const auto at_levels = v.begin() + long(head + m);
   out.insert(out.end(), at_levels, at_levels + long(levels));
   for (std::size_t l = 0; l < levels; ++l) {
     const auto at = at_levels + long(levels + l * m);
     const std::vector<double> all = comm.gather(std::vector<double>(at, at + long(m)), 0);
     out.insert(out.end(), all.begin(), all.end());
   }
+  const auto at_recent = v.end() - long(recent);
   if (v[6] != 0.0) {
     const auto at = at_levels + long(levels + levels * m);
-    const std::vector<double> all = comm.gather(std::vector<double>(at, v.end()), 0);
+    const std::vector<double> all = comm.gather(std::vector<double>(at, at_recent), 0);
     out.insert(out.end(), all.begin(), all.end());
   }
+  out.insert(out.end(), at_recent, v.end());
   if (comm.rank() != 0) return {};
   return out;
 }
 
 std::vector<double> MasingImage::sliced(const std::vector<double>& v, Eigen::Index offset,
                                         Eigen::Index cells) {
-  if (v.size() < 7) return v;
+  if (v.size() < 7 || (v[0] != 1.0 && v.size() < 8)) return v;  // unflatten says what is wrong
+  const std::size_t head = header_of(v), recent = recent_of(v);
   const auto m = std::size_t(v[4]), levels = std::size_t(v[5]);
-  if (v.size() < 7 + m + levels + levels * m) return v;  // unflatten says what is wrong
+  if (v.size() < head + m + levels + levels * m + recent) return v;
   std::vector<std::size_t> keep;
-  std::vector<double> out(v.begin(), v.begin() + 7);
+  std::vector<double> out(v.begin(), v.begin() + long(head));
   for (std::size_t j = 0; j < m; ++j) {
-    const double k = v[7 + j] - double(offset);
+    const double k = v[head + j] - double(offset);
     if (k >= 0.0 && k < double(cells)) keep.push_back(j), out.push_back(k);
   }
   out[4] = double(keep.size());
-  const std::size_t at_levels = 7 + m;
+  const std::size_t at_levels = head + m;
   out.insert(out.end(), v.begin() + long(at_levels), v.begin() + long(at_levels + levels));
   for (std::size_t l = 0; l < levels; ++l)
     for (const std::size_t j : keep) out.push_back(v[at_levels + levels + l * m + j]);
   const std::size_t at_turning = at_levels + levels + levels * m + std::size_t(offset);
-  if (v[6] != 0.0 && at_turning + std::size_t(cells) <= v.size())
+  if (v[6] != 0.0 && at_turning + std::size_t(cells) + recent <= v.size())
     out.insert(out.end(), v.begin() + long(at_turning), v.begin() + long(at_turning + cells));
+  out.insert(out.end(), v.end() - long(recent), v.end());
   return out;
 }
 
