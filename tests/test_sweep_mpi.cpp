@@ -59,3 +59,21 @@ TEST(SweepMpi, BadMemberIsReportedAndTheOthersComplete) {
   EXPECT_EQ(column(d / "out" / "sweep.csv", "status"),
             (std::vector<std::string>{"ok", "failed", "ok"}));
 }
+
+// `fretbem ensemble` is not an MPI command: under mpirun every rank would run the whole
+// ensemble into one folder. One line, exit 2 on every rank, nothing written.
+TEST(SweepMpi, EnsembleUnderMpirunIsRefusedWithOneLine) {
+  const fs::path d = scratch("mpi_ensemble");
+  const Result m = shell(mpirun(2) + FRETBEM_BINARY + " ensemble " + FRETBEM_SOURCE_DIR +
+                             "/scenarios/rough_monotone.ini --hurst 0.5 --seeds 2 --out " +
+                             (d / "e").string() + " --set grid.n=32",
+                         d);
+  EXPECT_EQ(m.status, 2) << m.err;
+  std::size_t lines = 0;
+  for (std::size_t p = 0;
+       (p = m.err.find("fretbem: error: fretbem ensemble under mpirun", p)) != std::string::npos;
+       ++p)
+    ++lines;
+  EXPECT_EQ(lines, 1u) << m.err;
+  EXPECT_FALSE(fs::exists(d / "e"));
+}

@@ -242,6 +242,16 @@ int cmd_surface(const Args& a) {
 // still run by a killed ensemble's orphan), 143 when a signal stopped the ensemble
 // (members.csv and aggregate.csv written anyway).
 int cmd_ensemble(const Args& a) {
+  // Its members are --jobs processes on one node: K copies of the ensemble would race for one
+  // folder, the second refused by the folder's lock and mpirun then ending the first. Refused
+  // before anything is written; rank 0 prints the line.
+  if (launched_on_several_ranks()) {
+    g_silent_rank = launched_rank() != 0;
+    throw InputError(
+        "fretbem ensemble under mpirun -n K > 1: its members run as --jobs processes on one "
+        "node; start it without mpirun, or spread members over ranks with `fretbem sweep` "
+        "(docs/cluster.md)");
+  }
   if (a.scenario.empty()) throw InputError("ensemble: no scenario file given");
   EnsembleOptions o;
   o.scenario = a.scenario;
