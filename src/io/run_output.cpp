@@ -103,20 +103,22 @@ ResultFile::ResultFile(const std::filesystem::path& dir, const Model& m, long re
   h5_.truncate_timeseries(std::size_t(resume_rows));
 }
 
-void ResultFile::on_step(const StepRecord& rec, const InterfaceState& s, const Model& m) {
-  h5_.append_row(rec.values());
-  last_step_ = rec.step, last_time_ = rec.time;
+bool fields_saved_at(const StepRecord& rec, const Model& m) {
   const auto& out = m.scenario.output;
+  if (out.fields.empty()) return false;
   const bool every = out.fields_every > 0 && rec.step % out.fields_every == 0;
   // Step 0 (the state after the normal loading; a wear run's row 0) is where every map of
   // the history starts.
   const bool first = rec.step == 0;
-  if (m.wear) {
-    if (first || every) save_fields(s, m);
-    return;
-  }
+  if (m.wear) return first || every;
   const bool last = std::size_t(rec.step) + 1 == m.path.steps.size();
-  if (first || every || rec.turning || last) save_fields(s, m);
+  return first || every || rec.turning || last;
+}
+
+void ResultFile::on_step(const StepRecord& rec, const InterfaceState& s, const Model& m) {
+  h5_.append_row(rec.values());
+  last_step_ = rec.step, last_time_ = rec.time;
+  if (fields_saved_at(rec, m)) save_fields(s, m);
 }
 
 void ResultFile::save_fields(const InterfaceState& s, const Model& m) {

@@ -95,6 +95,11 @@ class ProgressLine final : public Observer {
 io::CsvWriter open_csv(const std::filesystem::path& dir, const std::string& name,
                        const std::vector<std::string>& cols, long resume_rows = -1);
 
+/// Whether ResultFile saves output.fields at the step of `rec` (step 0, every
+/// output.fields_every steps, and without wear turning points and the last step); false when
+/// no field is asked. The one rule of the writer and of the gathering of a distributed state.
+bool fields_saved_at(const StepRecord& rec, const Model& model);
+
 /// The fields a run can save, by their output names, in global x-y components.
 std::map<std::string, Field> output_fields(const std::vector<std::string>& names,
                                            const InterfaceState& state, const Model& model);
