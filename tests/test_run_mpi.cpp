@@ -31,6 +31,11 @@ namespace {
 constexpr double kRelative = 1e-10;
 double relative_difference(const std::vector<double>& a, const std::vector<double>& b);
 constexpr double kSolverTolerance = 1e-12;
+// k_x of a resumed run: the stiffness CG's warm start is not in the checkpoint
+// (docs/reliability.md), and two CG solves stopped at relative residual kSolverTolerance from
+// different starts part by up to the condition number times it (measured 1.1e-10 here, 11x the
+// residual in the serial fault tests): 1e3 times the residual.
+constexpr double kResumedKx = 1e3 * kSolverTolerance;
 
 // The solver's cost and accuracy columns (see the file's comment).
 bool solver_cost(const std::string& column) {
@@ -55,13 +60,15 @@ void expect_converged(const std::vector<double>& v, const std::string& what) {
 // Compares one column or dataset: the solver's cost columns by their bound, the rest to
 // kRelative.
 void expect_same_values(const std::string& name, const std::vector<double>& serial,
-                        const std::vector<double>& mpi, const std::string& where) {
+                        const std::vector<double>& mpi, const std::string& where,
+                        double kx_bound = kRelative) {
   if (residual(name)) {
     expect_converged(serial, where + ": " + name);
     expect_converged(mpi, where + ": " + name);
   }
   if (solver_cost(name)) return;
-  EXPECT_LE(relative_difference(serial, mpi), kRelative) << where << ": " << name;
+  const double bound = name.rfind("kx", 0) == 0 ? kx_bound : kRelative;
+  EXPECT_LE(relative_difference(serial, mpi), bound) << where << ": " << name;
 }
 
 std::string mpirun(int ranks) {
@@ -124,13 +131,13 @@ double relative_difference(const std::vector<double>& a, const std::vector<doubl
   return diff == 0.0 ? 0.0 : diff / scale;
 }
 
-void expect_same_table(const fs::path& serial, const fs::path& mpi) {
+void expect_same_table(const fs::path& serial, const fs::path& mpi, double kx_bound = kRelative) {
   const auto a = columns(serial), b = columns(mpi);
   ASSERT_FALSE(a.empty()) << serial;
   ASSERT_EQ(a.size(), b.size()) << mpi;
   for (const auto& [name, values] : a) {
     ASSERT_TRUE(b.count(name)) << mpi << ": no column " << name;
-    expect_same_values(name, values, b.at(name), mpi.string());
+    expect_same_values(name, values, b.at(name), mpi.string(), kx_bound);
   }
 }
 
@@ -161,10 +168,11 @@ std::map<std::string, std::vector<double>> datasets(const fs::path& h5) {
   return out;
 }
 
-// timeseries.csv, cycles.csv and result.h5 of two run folders, to kRelative.
-void expect_same_run(const fs::path& serial, const fs::path& mpi) {
-  expect_same_table(serial / "timeseries.csv", mpi / "timeseries.csv");
-  expect_same_table(serial / "cycles.csv", mpi / "cycles.csv");
+// timeseries.csv, cycles.csv and result.h5 of two run folders, to kRelative (k_x columns to
+// kx_bound).
+void expect_same_run(const fs::path& serial, const fs::path& mpi, double kx_bound = kRelative) {
+  expect_same_table(serial / "timeseries.csv", mpi / "timeseries.csv", kx_bound);
+  expect_same_table(serial / "cycles.csv", mpi / "cycles.csv", kx_bound);
   const auto a = datasets(serial / "result.h5"), b = datasets(mpi / "result.h5");
   ASSERT_GT(a.size(), 3u) << "fields written";
   ASSERT_EQ(a.size(), b.size());
@@ -173,7 +181,7 @@ void expect_same_run(const fs::path& serial, const fs::path& mpi) {
     // /timeseries holds the columns of /series/timeseries/NAME, compared one by one.
     if (name == "timeseries") continue;
     expect_same_values(fs::path(name).filename().string(), values, b.at(name),
-                       (mpi / "result.h5").string());
+                       (mpi / "result.h5").string(), kx_bound);
   }
 }
 
@@ -254,7 +262,7 @@ void stop_and_resume(const fs::path& d, const std::string& args, int stopped_on,
   const Result r =
       shell(launcher + FRETBEM_BINARY + " run --quiet --resume " + (d / out).string(), d);
   ASSERT_EQ(r.status, 0) << r.err;
-  expect_same_run(d / "serial", d / out);
+  expect_same_run(d / "serial", d / out, kResumedKx);
 }
 
 }  // namespace
@@ -358,7 +366,7 @@ TEST(RunMpi, SignalToOneRankStopsAllAndResumes) {
   const Result r =
       shell(mpirun(2) + FRETBEM_BINARY + " run --quiet --resume " + (d / "sig").string(), d);
   ASSERT_EQ(r.status, 0) << r.err;
-  expect_same_run(d / "serial", d / "sig");
+  expect_same_run(d / "serial", d / "sig", kResumedKx);
 }
 
 // A refusal on two ranks: one line (rank 0's), the same exit code, nothing left running.
