@@ -318,28 +318,68 @@ TEST(StudyFaults, RerunBesideAKilledSweepsRunningMemberIsNotSuccess) {
 // killed one continues from its checkpoint in place, and its rows are those of the member run
 // alone without interruption (a re-run that started the members afresh into their folders
 // would fail each of them on the results there: "pass --overwrite").
+namespace {
+
+// An ensemble of `seeds` rough members at n = 32, 1000 steps each, checkpointed every 50.
+std::vector<std::string> long_ensemble(const fs::path& out, int seeds, int jobs) {
+  return {"ensemble",
+          kRough,
+          "--hurst",
+          "0.5",
+          "--seeds",
+          std::to_string(seeds),
+          "--jobs",
+          std::to_string(jobs),
+          "--quiet",
+          "--out",
+          out.string(),
+          "--set",
+          "grid.n=32",
+          "--set",
+          "load.steps=1000",
+          "--set",
+          "output.checkpoint_every=50"};
+}
+
+std::string command_line(const std::vector<std::string>& args) {
+  std::string cmd = kBin;
+  for (const auto& a : args) cmd += " " + a;
+  return cmd;
+}
+
+// Member `seed` of long_ensemble run alone, without interruption, in d/alone_SEED.
+std::vector<std::string> uninterrupted_member(const fs::path& d, int seed) {
+  const std::string alone = (d / ("alone_" + std::to_string(seed))).string();
+  const Result r =
+      shell(kBin + " run " + kRough + " --quiet --out " + alone +
+                " --set solver.threads=1 --set solver.fft_plan=auto --set solver.monotone=shortcut "
+                "--set grid.n=32 --set load.steps=1000 --set output.checkpoint_every=50 "
+                "--set surface.hurst=0.5 --set surface.seed=" +
+                std::to_string(seed),
+            d);
+  EXPECT_EQ(r.status, 0) << r.err;
+  return physical_rows(fs::path(alone) / "timeseries.csv");
+}
+
+void expect_same_rows(const std::vector<std::string>& continued,
+                      const std::vector<std::string>& uninterrupted) {
+  ASSERT_EQ(continued.size(), 1002u);
+  ASSERT_EQ(uninterrupted.size(), 1002u);
+  for (std::size_t i = 0; i < continued.size(); ++i)
+    if (continued[i] != uninterrupted[i]) {
+      EXPECT_EQ(continued[i], uninterrupted[i]) << "first differing row " << i;
+      break;
+    }
+}
+
+}  // namespace
+
 TEST(StudyFaults, EnsembleKilledOutrightContinuesOnRerun) {
   const fs::path d = scratch("killed_ensemble"), out = d / "e";
   // This test's own wisdom file: a concurrent test measuring another size could extend a shared
   // one between the runs compared below (FFTW may then re-choose plans: round-off changes).
   setenv("FRETBEM_FFTW_WISDOM", (d / "wisdom").c_str(), 1);
-  const std::vector<std::string> args{"ensemble",
-                                      kRough,
-                                      "--hurst",
-                                      "0.5",
-                                      "--seeds",
-                                      "2",
-                                      "--jobs",
-                                      "1",
-                                      "--quiet",
-                                      "--out",
-                                      out.string(),
-                                      "--set",
-                                      "grid.n=32",
-                                      "--set",
-                                      "load.steps=1000",
-                                      "--set",
-                                      "output.checkpoint_every=50"};
+  const std::vector<std::string> args = long_ensemble(out, 2, 1);
   const pid_t ensemble = start_group(args, d / "first.err");
   const fs::path seed1 = out / "H0.5" / "seed_001", seed2 = out / "H0.5" / "seed_002";
   // Members run one at a time: seed 2 has a checkpoint once seed 1 has ended.
@@ -350,34 +390,57 @@ TEST(StudyFaults, EnsembleKilledOutrightContinuesOnRerun) {
   ASSERT_TRUE(wait_until([&] { return run_ended(seed2); }));
   std::ofstream(seed1 / "marker") << "kept";
   std::ofstream(seed2 / "marker") << "kept";
-  std::string cmd = kBin;
-  for (const auto& a : args) cmd += " " + a;
-  const Result r = shell(cmd, d);
+  const Result r = shell(command_line(args), d);
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(fs::exists(seed1 / "marker")) << "the finished member ran again";
   EXPECT_TRUE(fs::exists(seed2 / "marker")) << "the killed member started afresh";
   const auto members = slurp(out / "members.csv");
   EXPECT_EQ(count_of(members, ",0,"), 2) << members;
   EXPECT_EQ(count_of(members, ",ok\n"), 2) << members;
-  const std::string alone = (d / "alone").string();
-  ASSERT_EQ(
-      shell(kBin + " run " + kRough + " --quiet --out " + alone +
-                " --set solver.threads=1 --set solver.fft_plan=auto --set solver.monotone=shortcut "
-                "--set grid.n=32 --set "
-                "load.steps=1000 --set output.checkpoint_every=50 --set surface.hurst=0.5 "
-                "--set surface.seed=2",
-            d)
-          .status,
-      0);
-  const auto continued = physical_rows(seed2 / "timeseries.csv"),
-             uninterrupted = physical_rows(fs::path(alone) / "timeseries.csv");
-  ASSERT_EQ(continued.size(), 1002u);
-  ASSERT_EQ(uninterrupted.size(), 1002u);
-  for (std::size_t i = 0; i < continued.size(); ++i)
-    if (continued[i] != uninterrupted[i]) {
-      EXPECT_EQ(continued[i], uninterrupted[i]) << "first differing row " << i;
-      break;
-    }
+  expect_same_rows(physical_rows(seed2 / "timeseries.csv"), uninterrupted_member(d, 2));
+  unsetenv("FRETBEM_FFTW_WISDOM");
+}
+
+// SIGTERM to the ensemble alone (as `kill PID` or a batch system's stop of the main process):
+// the study stops the members its worker processes run, each checkpointed and recorded as
+// interrupted, and exits 143; run again, it keeps the finished member and continues the
+// stopped ones, whose rows are the uninterrupted run's.
+TEST(StudyFaults, EnsembleStoppedBySigtermContinuesOnRerun) {
+  const fs::path d = scratch("stopped_ensemble"), out = d / "e";
+  setenv("FRETBEM_FFTW_WISDOM", (d / "wisdom").c_str(), 1);  // as the test above
+  const std::vector<std::string> args = long_ensemble(out, 3, 2);
+  const pid_t ensemble = start_group(args, d / "first.err");
+  const fs::path seed1 = out / "H0.5" / "seed_001", seed3 = out / "H0.5" / "seed_003";
+  // Two workers: seed 3 starts once seed 1 or 2 has ended.
+  ASSERT_TRUE(wait_until([&] { return has_rows(seed3 / "timeseries.csv"); }))
+      << slurp(d / "first.err");
+  kill(ensemble, SIGTERM);
+  int status = 0;
+  waitpid(ensemble, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status)) << slurp(d / "first.err");
+  EXPECT_EQ(WEXITSTATUS(status), 143) << slurp(d / "first.err");
+  std::vector<int> finished;
+  for (int s = 1; s <= 3; ++s) {
+    const fs::path dir = out / "H0.5" / ("seed_00" + std::to_string(s));
+    ASSERT_TRUE(run_ended(dir)) << "a worker outlived the ensemble";
+    const std::string st = slurp(dir / "sweep_member.txt");
+    if (st.find("exit_code=0\n") != std::string::npos)
+      finished.push_back(s);
+    else
+      EXPECT_NE(st.find("interrupted"), std::string::npos) << st;
+    std::ofstream(dir / "marker") << "kept";
+  }
+  ASSERT_GE(finished.size(), 1u);
+  ASSERT_LE(finished.size(), 2u) << "SIGTERM came after the last member ended";
+  const Result r = shell(command_line(args), d);
+  EXPECT_EQ(r.status, 0) << r.err;
+  const auto members = slurp(out / "members.csv");
+  EXPECT_EQ(count_of(members, ",ok\n"), 3) << members;
+  for (int s = 1; s <= 3; ++s) {
+    const fs::path dir = out / "H0.5" / ("seed_00" + std::to_string(s));
+    EXPECT_TRUE(fs::exists(dir / "marker")) << "seed " << s << " ran again from the start";
+  }
+  expect_same_rows(physical_rows(seed3 / "timeseries.csv"), uninterrupted_member(d, 3));
   unsetenv("FRETBEM_FFTW_WISDOM");
 }
 

@@ -238,7 +238,18 @@ int cmd_surface(const Args& a) {
   return 0;
 }
 
-// Members are separate `fretbem run` processes; exit 4 when any of them is not ok (failed, or
+int run_command_line(int argc, char** argv);
+
+// A member's `fretbem run` command line run in this process (a study's worker process).
+int run_member_command(const std::vector<std::string>& args) {
+  std::vector<std::string> copy = args;
+  std::vector<char*> argv;
+  for (auto& s : copy) argv.push_back(s.data());
+  argv.push_back(nullptr);
+  return run_command_line(int(copy.size()), argv.data());
+}
+
+// Members run in --jobs worker processes of this one; exit 4 when any of them is not ok (failed, or
 // still run by a killed ensemble's orphan), 143 when a signal stopped the ensemble
 // (members.csv and aggregate.csv written anyway).
 int cmd_ensemble(const Args& a) {
@@ -261,6 +272,7 @@ int cmd_ensemble(const Args& a) {
   o.out = a.out;
   o.quiet = a.quiet;
   o.overwrite = a.overwrite;
+  o.in_process = run_member_command;
   const int not_ok = run_ensemble(o);
   if (not_ok == kEnsembleStopped) return 143;  // as `fretbem sweep`: 128 + SIGTERM
   if (not_ok)
@@ -278,6 +290,7 @@ int cmd_sweep(const Args& a) {
   c.study = a.scenario, c.sets = a.sets, c.out = a.out;
   c.list = a.list, c.member = a.member, c.aggregate = a.aggregate;
   c.options.jobs = a.jobs, c.options.quiet = a.quiet;
+  c.options.in_process = run_member_command;
   return run_sweep_command(c);
 }
 
@@ -300,11 +313,8 @@ void say(const char* format, T... values) {
   if (!g_silent_rank) std::fprintf(stderr, format, values...);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  fretbem::hdf5::no_library_close_at_exit();  // a full disk must end in a message, not SIGSEGV
-  fretbem::keep_freed_memory();
+// A command line's exit status, every error reported on stderr.
+int run_command_line(int argc, char** argv) {
   try {
     const Args a = parse_args(argc, argv);
     if (a.command == "help") return std::fputs(kUsage, stdout), 0;
@@ -346,4 +356,12 @@ int main(int argc, char** argv) {
     say("fretbem: error: %s\n", e.what());
     return 1;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  fretbem::hdf5::no_library_close_at_exit();  // a full disk must end in a message, not SIGSEGV
+  fretbem::keep_freed_memory();
+  return run_command_line(argc, argv);
 }

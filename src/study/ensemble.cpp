@@ -139,6 +139,7 @@ bool run_members(const EnsembleOptions& o, std::vector<Member>& members) {
   PoolOptions pool;
   pool.jobs = o.jobs, pool.quiet = o.quiet, pool.binary = o.binary;
   pool.label = "fretbem ensemble", pool.restart = o.overwrite;
+  pool.in_process = o.in_process;
   std::vector<std::size_t> todo;
   for (std::size_t k = 0; k < members.size(); ++k) todo.push_back(k);
   if (!o.overwrite) todo = pending_members(study);

@@ -10,7 +10,9 @@
 #include "fretbem/core/output_lock.hpp"
 #include "fretbem/core/resources.hpp"
 #include "fretbem/core/stop_signal.hpp"
+#include "fretbem/study/member_launcher.hpp"
 #include "fretbem/study/member_status.hpp"
+#include "fretbem/study/mpi_queue.hpp"
 #include "fretbem/study/subprocess.hpp"
 
 namespace fretbem {
@@ -37,9 +39,18 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
+// In worker processes when the caller gives the entry point, except under an MPI launcher: a
+// worker forked from a rank would carry the launcher's environment into its members, which
+// would take themselves for ranks of a distributed run (subprocess.cpp).
+std::unique_ptr<MemberLauncher> launcher_for(const PoolOptions& opt) {
+  if (opt.in_process && !mpi_launched()) return make_worker_launcher(opt.in_process);
+  return make_spawn_launcher();
+}
+
 class Pool {
  public:
-  Pool(const StudyMembers& members, const PoolOptions& opt) : members_(members), opt_(opt) {}
+  Pool(const StudyMembers& members, const PoolOptions& opt)
+      : members_(members), opt_(opt), launcher_(launcher_for(opt)) {}
 
   // A stopped member continues from its checkpoint; any other starts afresh. A member another
   // process runs right now is left to it: emptying its folder would pull the outputs from under
@@ -66,16 +77,16 @@ class Pool {
     const auto cmd = resume ? std::vector<std::string>{opt_.binary.string(), "run", "--resume",
                                                        dir.string(), "--quiet"}
                             : member_run_command(members_, k, opt_.binary);
-    const pid_t pid = spawn_logged(cmd, dir / "log.txt");
-    if (pid < 0) return finish(k, 127, 0, "could not start " + opt_.binary.string());
-    running_[pid] = {k, std::chrono::steady_clock::now(), std::move(lock)};
+    const auto handle = launcher_->start(cmd, dir / "log.txt");
+    if (!handle) return finish(k, 127, 0, "could not start " + opt_.binary.string());
+    running_[*handle] = {k, std::chrono::steady_clock::now(), std::move(lock)};
   }
 
   // Collects the members that ended; true when any did.
   bool reap() {
     bool any = false;
     for (auto it = running_.begin(); it != running_.end();) {
-      const auto code = poll_child(it->first);
+      const auto code = launcher_->poll(it->first);
       if (!code) {
         ++it;
         continue;
@@ -99,9 +110,9 @@ class Pool {
   // SIGTERM to every running member, then their exits, each recorded as interrupted unless
   // it had just finished (exit 0: recorded as finished, not "interrupted" beside exit 0).
   void stop_all() {
-    for (const auto& [pid, r] : running_) kill(pid, SIGTERM);
-    for (const auto& [pid, r] : running_) {
-      const int code = wait_child(pid);
+    for (const auto& [handle, r] : running_) launcher_->terminate(handle);
+    for (const auto& [handle, r] : running_) {
+      const int code = launcher_->wait(handle);
       finish(r.index, code, seconds_since(r.start), code == 0 ? "" : kMemberInterrupted);
     }
     running_.clear();
@@ -110,8 +121,8 @@ class Pool {
   // After a failure of the study itself (its status files cannot be written): the members are
   // ended without further records, so that none runs on unobserved.
   void abandon_all() noexcept {
-    for (const auto& [pid, r] : running_) kill(pid, SIGTERM);
-    for (const auto& [pid, r] : running_) wait_child(pid);
+    for (const auto& [handle, r] : running_) launcher_->terminate(handle);
+    for (const auto& [handle, r] : running_) launcher_->wait(handle);
     running_.clear();
   }
 
@@ -141,7 +152,8 @@ class Pool {
 
   const StudyMembers& members_;
   const PoolOptions& opt_;
-  std::map<pid_t, Running> running_;
+  std::unique_ptr<MemberLauncher> launcher_;
+  std::map<int, Running> running_;  // by the launcher's handle
 };
 
 // Polls rather than blocks in waitpid: a signal must be seen while members run, and rank 0 of

@@ -5,8 +5,11 @@
 #include <sys/wait.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstring>
 #include <fstream>
+
+#include "fretbem/study/member_launcher.hpp"
 
 extern char** environ;
 
@@ -79,6 +82,27 @@ std::string last_line(const std::filesystem::path& file) {
   if (const auto cr = last.find_last_of('\r'); cr != std::string::npos && cr + 1 < last.size())
     last = last.substr(cr + 1);
   return last.empty() ? "(no output)" : last;
+}
+
+namespace {
+
+// A member's handle is its pid.
+class SpawnLauncher final : public MemberLauncher {
+ public:
+  std::optional<int> start(const std::vector<std::string>& args,
+                           const std::filesystem::path& log) override {
+    const pid_t pid = spawn_logged(args, log);
+    return pid < 0 ? std::nullopt : std::optional<int>(pid);
+  }
+  std::optional<int> poll(int pid) override { return poll_child(pid); }
+  int wait(int pid) override { return wait_child(pid); }
+  void terminate(int pid) override { kill(pid, SIGTERM); }
+};
+
+}  // namespace
+
+std::unique_ptr<MemberLauncher> make_spawn_launcher() {
+  return std::make_unique<SpawnLauncher>();
 }
 
 }  // namespace fretbem

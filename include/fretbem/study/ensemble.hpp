@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "fretbem/study/member_launcher.hpp"
+
 namespace fretbem {
 
 struct EnsembleOptions {
@@ -18,6 +20,7 @@ struct EnsembleOptions {
   int bins = 20;   ///< bins of F_x/(mu F_z) over [0, 1]
   std::filesystem::path out;
   std::filesystem::path binary;  ///< the fretbem executable members run (default: this one)
+  MemberEntry in_process;        ///< members in worker processes (PoolOptions::in_process)
   bool quiet = false;
   /// Run every member afresh; without it a re-run into `out` continues the ensemble there:
   /// complete members are kept, stopped ones continue from their checkpoint, failed and

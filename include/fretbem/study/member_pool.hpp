@@ -1,5 +1,6 @@
 // The subprocess pool of studies (`fretbem sweep`, `fretbem ensemble`): runs the members a
-// queue hands out, up to `jobs` at a time, each a `fretbem run` in its own folder with stdout
+// queue hands out, up to `jobs` at a time (in worker processes or as subprocesses:
+// study/member_launcher.hpp), each a `fretbem run` in its own folder with stdout
 // and stderr in its log.txt and its status file (study/member_status.hpp) written when it starts
 // and when it ends. A member that is complete is skipped, one that was stopped continues from
 // its checkpoint, any other starts afresh in an emptied folder; a member another process holds
@@ -13,6 +14,7 @@
 #include <optional>
 #include <string>
 
+#include "fretbem/study/member_launcher.hpp"
 #include "fretbem/study/study_members.hpp"
 
 namespace fretbem {
@@ -24,6 +26,10 @@ struct PoolOptions {
   std::string label = "fretbem sweep";  ///< prefix of its messages ("fretbem sweep[rank 1]")
   /// Start every member afresh, complete or stopped ones too (`ensemble --overwrite`).
   bool restart = false;
+  /// The command line's entry point: members then run in `jobs` worker processes forked from
+  /// this one (study/member_launcher.hpp), not each in a process of its own; `binary` is
+  /// then only named in messages and member commands.
+  MemberEntry in_process;
 };
 
 /// Hands out member indices to one process's pool: the whole list serially, or a share
