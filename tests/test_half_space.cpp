@@ -1,4 +1,5 @@
-// Validation rung 1 (docs/architecture.md, "Validation ladder"): Love's cell coefficients and the FFT half-space operator.
+// Validation rung 1 (docs/architecture.md, "Validation ladder"): Love's cell coefficients and the
+// FFT half-space operator.
 //
 // References used here are independent of src/elastic/love.cpp: 2-D numerical quadrature of the
 // point-force Green's functions over a cell, direct O(n^4) summation, the point-force limits
@@ -17,6 +18,7 @@
 
 #include "fretbem/elastic/grid.hpp"
 #include "fretbem/elastic/half_space.hpp"
+#include "fretbem/elastic/kernel_samples.hpp"
 #include "fretbem/elastic/love.hpp"
 #include "fretbem/elastic/material.hpp"
 
@@ -403,6 +405,45 @@ TEST(HalfSpace, CerrutiWithZeroPoissonEqualsAnalogy) {
     EXPECT_LE(rel_max_diff(cx, ax), kFftTol) << periodic;
     EXPECT_LE(rel_max_diff(cy, ay), kFftTol) << periodic;
   }
+}
+
+// A study's worker builds one operator per member: with kept samples the second operator of a
+// grid samples no kernel and is bit for bit the one a fresh process builds; another material,
+// coupling or grid samples afresh.
+TEST(HalfSpace, KeptKernelSamplesGiveTheFreshOperatorBitForBit) {
+  const Grid grid{14, 10, 1e-6, false};
+  const Field p = random_field(grid.nx, grid.ny, 5, 0, 1);
+  const Field tx = random_field(grid.nx, grid.ny, 6, -1, 1);
+  const Field ty = random_field(grid.nx, grid.ny, 7, -1, 1);
+  struct Out {
+    Field uz, ux, uy;
+  };
+  auto apply = [&](const Material& mat, Coupling coupling, const Grid& g) {
+    HalfSpace hs(g, mat, coupling);
+    Out o;
+    hs.normal(p, o.uz);
+    hs.tangential(tx, ty, o.ux, o.uy);
+    return o;
+  };
+  const Out fresh = apply(steel_like(0.3), Coupling::cerruti, grid);
+  keep_kernel_samples(true);
+  const std::int64_t n0 = kernel_samples_computed();
+  apply(steel_like(0.3), Coupling::cerruti, grid);
+  EXPECT_EQ(kernel_samples_computed(), n0 + 1);
+  const Out kept = apply(steel_like(0.3), Coupling::cerruti, grid);
+  EXPECT_EQ(kernel_samples_computed(), n0 + 1) << "the same grid and material sampled again";
+  EXPECT_TRUE((kept.uz == fresh.uz).all() && (kept.ux == fresh.ux).all() &&
+              (kept.uy == fresh.uy).all());
+  apply(steel_like(0.2), Coupling::cerruti, grid);
+  apply(steel_like(0.2), Coupling::analogy, grid);
+  apply(steel_like(0.2), Coupling::analogy, Grid{14, 12, 1e-6, false});
+  EXPECT_EQ(kernel_samples_computed(), n0 + 4);
+  const Out again = apply(steel_like(0.3), Coupling::cerruti, grid);
+  EXPECT_TRUE((again.uz == fresh.uz).all() && (again.ux == fresh.ux).all());
+  keep_kernel_samples(false);
+  apply(steel_like(0.3), Coupling::cerruti, grid);
+  apply(steel_like(0.3), Coupling::cerruti, grid);
+  EXPECT_EQ(kernel_samples_computed(), n0 + 7) << "kept with keep_kernel_samples(false)";
 }
 
 TEST(HalfSpace, SparseAddEqualsConvolution) {

@@ -11,6 +11,7 @@
 
 #include "fretbem/core/input_warning.hpp"
 #include "fretbem/core/stop_signal.hpp"
+#include "fretbem/elastic/kernel_samples.hpp"
 #include "fretbem/study/member_launcher.hpp"
 
 namespace fretbem {
@@ -108,6 +109,7 @@ int run_job(const MemberEntry& entry, const std::vector<std::string>& args, cons
   const int result = ::fcntl(result_fd, F_DUPFD, kResultFd + 1);
   ::dup2(job, kJobFd), ::dup2(result, kResultFd);
   ::close_range(kResultFd + 1, ~0U, 0);
+  keep_kernel_samples(true);  // members of one grid share them (a study's usual case)
   fs::path log;
   while (!stop_requested()) {
     const auto args = read_job(log);
