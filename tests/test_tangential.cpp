@@ -183,6 +183,34 @@ TEST(Incremental, PathIndependenceOnMonotoneSegment) {
   EXPECT_LE(rel_l2(t40[0], t1[0]), 1e-6);
 }
 
+// An increment whose caller reads u on the contact nodes only (contact_fixed: one normal load
+// for the whole path) ends without the verifying product, which only re-evaluates the residual
+// on the exact image and refreshes u off contact: one product fewer, the same traction bit for
+// bit, and u on the contact nodes C tau to the round-off of its incremental updates. Force
+// control, 0.5 mu F_z from the unloaded state, tolerance 1e-10.
+TEST(Incremental, FixedContactSkipsTheVerifyingProduct) {
+  Hertz h(64);
+  TangentialOperator op(*h.hs, Vec2(1, 0));
+  // Two solvers: each images the bound once for its residual scale.
+  ProjectedCgSolver solver_a(op, {1e-10, 5000}), solver_b(op, {1e-10, 5000});
+  const VecField tau0 = op.zeros(), u0 = op.zeros();
+  TangentialIncrement inc{&h.bound, &tau0, &u0, TangentialControl::force, vec(0.5 * h.mu * h.Fz)};
+  VecField verified = tau0, u_verified = u0, fixed = tau0, u_fixed = u0;
+  const TangentialResult a = solver_a.solve(inc, verified, u_verified);
+  inc.contact_fixed = true;
+  const TangentialResult b = solver_b.solve(inc, fixed, u_fixed);
+  ASSERT_GT(a.iterations, 2);
+  EXPECT_EQ(b.convolutions, a.convolutions - 1);
+  EXPECT_TRUE((fixed[0] == verified[0]).all());
+  VecField exact;
+  op.apply(fixed, exact);
+  double drift = 0.0;
+  for (Eigen::Index k = 0; k < h.bound.size(); ++k)
+    if (h.bound(k) > 0.0) drift = std::max(drift, std::abs(u_fixed[0](k) - exact[0](k)));
+  EXPECT_LT(drift, 1e-13 * exact[0].abs().maxCoeff());
+  EXPECT_TRUE(u_fixed[0].allFinite());
+}
+
 // Loading along y or at 30 degrees (two-component analogy operator) gives the rotated
 // x solution.
 TEST(Incremental, RotatedLoadingGivesRotatedSolution) {

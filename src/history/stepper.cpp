@@ -12,10 +12,26 @@
 
 namespace fretbem {
 
+namespace {
+
+// One normal load on every step of the path, no wear to move the surface and a bound that
+// does not evolve (a kinetic coefficient of 0 would open nodes): the contact nodes of step 0
+// are those of every increment.
+bool contact_never_changes(const Model& m) {
+  const std::vector<LoadStep>& s = m.path.steps;
+  if (m.wear || m.friction->evolves() || m.half_space->cross_coupled() || s.empty()) return false;
+  for (const LoadStep& step : s)
+    if (!(step.normal == s[0].normal)) return false;
+  return true;
+}
+
+}  // namespace
+
 Stepper::Stepper(Model& model)
     : model_(model), state_(InterfaceState::zeros(*model.tangential_operator)) {
   if (model_.cycle_predictor) repeated_later_ = CyclePredictor::repeated_later(model_.path.steps);
   masing_plan_ = MasingImage::plan(model_);
+  contact_fixed_ = contact_never_changes(model_);
   predictor_.set_communicator(model_.half_space->communicator());
   masing_.set_communicator(model_.half_space->communicator());
 }
@@ -244,6 +260,7 @@ bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
   inc.u0 = &u0;
   inc.guess = guess_;
   inc.guess_continues = guess_continues_;
+  inc.contact_fixed = contact_fixed_;
   set_target(ls, inc);
   const bool same_load = last_target_.size() == inc.target.size() &&
                          (inc.control == TangentialControl::force ? last_target_ == inc.target

@@ -46,6 +46,13 @@ struct TangentialIncrement {
   /// image, a secant): taken as the start whenever it is feasible, without building and
   /// imaging the force-shifted starts it would otherwise be compared against (two products).
   bool guess_continues = false;
+  /// The caller reads u on the contact nodes of `bound` only until it images a traction again
+  /// (every later increment has this contact: one normal load, no wear). The projected solver
+  /// then stops on its incrementally updated u without the verifying product that refreshes u
+  /// elsewhere: u on contact is C tau to the round-off of its updates (see
+  /// ProjectedCgSolver::kUnverifiedTolerance), and the cells off contact keep their last
+  /// exact values.
+  bool contact_fixed = false;
 };
 
 /// Convergence report of one increment. residual: rms over contact nodes of the violation of
@@ -85,6 +92,12 @@ class ProjectedCgSolver final : public TangentialSolver {
   bool preconditioned(const Field& bound) const;
   /// Automatic preconditioning from this largest contact patch (PreconditionDecision).
   static constexpr std::int64_t kPatchNodes = PreconditionDecision::kPatchNodes;
+  /// Smallest tolerance at which an increment with contact_fixed ends without the verifying
+  /// product (double-precision FFTs only): each update of the incremental u carries the
+  /// product's round-off, ~1e-15 of its size (log2 of the padded size times the unit
+  /// round-off), and the updates sum to about the start's distance from the solution, so the
+  /// drift of the residual stays three decades below this.
+  static constexpr double kUnverifiedTolerance = 1e-11;
 
  private:
   template <int NC>

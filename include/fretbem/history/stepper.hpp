@@ -145,6 +145,7 @@ class Stepper {
   CyclePredictor predictor_;          ///< Model::cycle_predictor
   std::vector<char> repeated_later_;  ///< CyclePredictor::repeated_later of the path
   MasingImage::Plan masing_plan_;     ///< MasingImage::plan of the model
+  bool contact_fixed_ = false;        ///< TangentialIncrement::contact_fixed for every step
   MasingImage masing_;                ///< the Masing image's virgin table and branch origin
   const VecField* guess_ = nullptr;   ///< the predictor of the step being advanced
   bool guess_continues_ = false;      ///< guess_ is the Masing image or a secant (no comparison)
