@@ -21,11 +21,13 @@ SUNLinearSolver_Type frozen_type(SUNLinearSolver) {
   return SUNLINEARSOLVER_MATRIX_EMBEDDED;
 }
 
-int frozen_solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, realtype) {
+// `delta`: ARKODE's tolerance for the linear solve, a 2-norm in the units of y (m; arkLsSolve:
+// 0.05 times the Newton tolerance, over the mean error weight, times sqrt of the length).
+int frozen_solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, realtype delta) {
   auto& c = *static_cast<FrozenSlipContent*>(S->content);
   realtype gamma = 0.0;
   ARKStepGetCurrentGamma(c.arkode, &gamma);
-  return newton_matrix_solve(*c.data, b, x, gamma) == 0 ? 0 : SUNLS_PSOLVE_FAIL_UNREC;
+  return newton_matrix_solve(*c.data, b, x, gamma, delta) == 0 ? 0 : SUNLS_PSOLVE_FAIL_UNREC;
 }
 
 int frozen_free(SUNLinearSolver S) {

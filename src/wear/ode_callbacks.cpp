@@ -51,14 +51,14 @@ void silent(int, const char*, const char*, char*, void*) {}
 // evaluated iterate (relinearised only when a new iterate has been evaluated since). Shared by
 // the Krylov preconditioner and the matrix-embedded linear solver. Exceptions are kept for
 // rethrow after ARKODE returns.
-int newton_matrix_solve(OdeData& d, N_Vector b, N_Vector x, double gamma) {
+int newton_matrix_solve(OdeData& d, N_Vector b, N_Vector x, double gamma, double residual) {
   try {
     if (d.linearised_generation != d.base_generation) {
       d.pre->setup(d.base_pressure, d.base_rate);
       d.linearised_generation = d.base_generation;
     }
     Field out;
-    d.pre->solve(slab(d, b), gamma, out);
+    d.pre->solve(slab(d, b), gamma, out, residual);
     slab(d, x) = out;
     return 0;
   } catch (...) {

@@ -54,8 +54,9 @@ GridVector new_grid_vector(const HalfSpace& hs, SUNContext ctx);
 int wear_rhs(realtype N, N_Vector y, N_Vector ydot, void* user);
 /// ARKODE's error handler: silent (failures are reported by `check`).
 void silent(int, const char*, const char*, char*, void*);
-/// x = P^-1 b with the frozen-slip Newton matrix P = I - gamma J~.
-int newton_matrix_solve(OdeData& d, N_Vector b, N_Vector x, double gamma);
+/// x = P^-1 b with the frozen-slip Newton matrix P = I - gamma J~, the inner CG residual at
+/// most `residual` (m, 2-norm; 0: WearPreconditioner's relative tolerance).
+int newton_matrix_solve(OdeData& d, N_Vector b, N_Vector x, double gamma, double residual = 0.0);
 /// Krylov Newton (wear.newton = krylov): preconditioner setup and solve, J v products.
 int wear_psetup(realtype, N_Vector, N_Vector, booleantype, booleantype* jcur, realtype, void*);
 int wear_psolve(realtype, N_Vector, N_Vector, N_Vector r, N_Vector z, realtype gamma, realtype, int,

@@ -13,6 +13,12 @@
 // an SPD system on A (two CG solves: one for the right-hand side, one cached for 1 under force
 // control). Its eigenvalues near gamma d K_max are the ones that cap explicit steps at
 // 1 / (k s K_max): with P the Krylov solver sees them removed.
+//
+// How exactly: a CG residual r of the first system, (C_A + gamma D) q = dδ 1 - b_A + r, moves x
+// by gamma D (C_A + gamma D)^-1 r, whose eigenvalues lie in [0, 1) (D >= 0, C_A SPD): x is off by
+// about |r| (m). A Newton correction needs no more than the accuracy ARKODE asks of its linear
+// solves (its `delta`, 0.05 times the Newton tolerance in the error weights' units), and the
+// frozen slip is a larger error of P itself, so solve() stops there.
 #pragma once
 
 #include "fretbem/elastic/grid.hpp"
@@ -28,17 +34,19 @@ class WearPreconditioner {
   /// Linearises at a cycle with pressure p (Pa) and worn depth per cycle w (m): A = {p > 0},
   /// d = w / p on A (m/Pa per cycle).
   void setup(const Field& pressure, const Field& wear_per_cycle);
-  /// x = P^-1 b for P = I - gamma J (gamma in cycles). Throws SolverError if an inner CG solve
-  /// does not converge.
-  void solve(const Field& b, double gamma, Field& x);
+  /// x = P^-1 b for P = I - gamma J (gamma in cycles), the inner CG residual at most
+  /// max(tolerance x |b_A|, residual) (2-norm over the grid, m; 0: the relative tolerance
+  /// alone). Throws SolverError if an inner CG solve does not converge.
+  void solve(const Field& b, double gamma, Field& x, double residual = 0.0);
 
   bool ready() const { return ready_; }
   /// Inner CG iterations (= convolutions) since construction.
   long iterations() const { return iterations_; }
 
  private:
-  /// (C_A + gamma D) q = r on A, Jacobi-preconditioned CG; q = 0 off A.
-  void cg(const Field& r, double gamma, Field& q);
+  /// (C_A + gamma D) q = r on A to a residual of at most max(tolerance |r_A|, share |r_A|),
+  /// Jacobi-preconditioned CG; q = 0 off A.
+  void cg(const Field& r, double gamma, Field& q, double share);
   /// The grid's reduction layer: fields are this rank's slab, sums over all ranks.
   const Communicator& comm() const { return hs_.communicator(); }
 
@@ -48,7 +56,7 @@ class WearPreconditioner {
   bool ready_ = false;
   Eigen::ArrayXXd mask_;  // 1 on A
   Field d_;               // wear per unit pressure, 0 off A
-  double cached_gamma_ = -1.0;
+  double cached_gamma_ = -1.0, cached_share_ = 0.0;
   Field ones_solution_;                 // (C_A + gamma D)^-1 1_A for cached_gamma_
   Field q_, diag_, r_, z_, s_, t_, u_;  // work fields, kept between solves
   long iterations_ = 0;
