@@ -17,6 +17,16 @@ bool entry_fraction(const Field& gap0, const Field& p0, const Field& p1, double 
   return any;
 }
 
+void loss_fraction(const Field& gap1, const Field& p0, const Field& p1, double normal_self,
+                   Field& theta) {
+  theta = Field::Ones(p1.rows(), p1.cols());
+  for (Eigen::Index k = 0; k < p1.size(); ++k) {
+    if (!(p0(k) > 0.0 && p1(k) == 0.0)) continue;
+    const double c = normal_self * p0(k);
+    theta(k) = c / (c + std::max(gap1(k), 0.0));  // an open node at zero gap opened at the end
+  }
+}
+
 void entry_reference(const Field& theta, const Eigen::VectorXd& dU, const VecField& u,
                      const VecField& tau, double tangential_self, const VecField& u0,
                      VecField& u0e) {

@@ -18,7 +18,9 @@ BoundWeights bound_weights(const StepStart* start, const InterfaceState& end, co
   double ts = 0.0;
   for (std::size_t c = 0; c < s.size(); ++c) ts += start->traction[c](k) * s[c](k);
   if (!(ts > 0.0) || !(len > 0.0)) return {};
-  return {0.5 * std::min(ts / (start->bound(k) * len), 1.0), 0.0};
+  const double g0 = start->bound(k), theta = start->loss ? (*start->loss)(k) : 1.0;
+  const double work = theta * ts + (1.0 - theta) * start->tangential_self * g0 * g0;
+  return {0.5 * std::clamp(work / (g0 * len), 0.0, 1.0), 0.0};
 }
 
 void step_work(const StepStart* start, const InterfaceState& end, const Field& bound,

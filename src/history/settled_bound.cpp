@@ -51,7 +51,7 @@ StepSlip Stepper::step_slip(const VecField& u0, const VecField& tau0, const Eige
   step_slip_vectors(u0, dU, s);
   const StateField before = state_.state;
   state_.classify(bound_, model_.scenario.solver.tolerance, work_.slip, slip_threshold());
-  const StepStart start{bound_start_, pressure_start_, before, tau0};
+  const StepStart start = step_start(before, tau0);
   StepSlip out{Field::Zero(bound_.rows(), bound_.cols()), Field::Zero(bound_.rows(), bound_.cols()),
                Field::Zero(bound_.rows(), bound_.cols())};
   const auto slip = std::uint8_t(NodeState::slip);

@@ -300,11 +300,31 @@ bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
 // plus the normal displacement of the start pressure (one convolution; recomputed rather than
 // kept from the last normal solve so that a resumed run repeats the uninterrupted one).
 Field Stepper::gap_start() {
-  const Field& z = local_surface();
-  const double top = highest(z), datum = model_.surface0.maxCoeff() - top;
   Field uz;
   model_.half_space->normal(pressure_start_, uz);
-  return uz + (top - z) - (indentation_start_ - datum);
+  return gap(uz, indentation_start_);
+}
+
+// The normal gap (m) for the normal displacement uz (m) at the approach delta (m, the unworn
+// surface's datum).
+Field Stepper::gap(const Field& uz, double delta) {
+  const Field& z = local_surface();
+  const double top = highest(z), datum = model_.surface0.maxCoeff() - top;
+  return uz + (top - z) - (delta - datum);
+}
+
+// The start of a step whose bound moved, for the quadrature of the work (step_work.hpp): with
+// the fraction of the step at which each node that lost contact in it opened, where the load
+// moved the contact (as for contact entry, not in wear runs), from the gap at the step's end
+// (the normal solve's own displacement: no convolution).
+StepStart Stepper::step_start(const StateField& before, const VecField& tau0) {
+  StepStart start{bound_start_, pressure_start_, before, tau0};
+  if (model_.wear || !load_moved_ || model_.half_space->cross_coupled()) return start;
+  loss_fraction(gap(model_.normal->displacement(), state_.indentation), pressure_start_,
+                state_.pressure, model_.half_space->normal_self(), loss_);
+  start.loss = &loss_;
+  start.tangential_self = model_.tangential_operator->self_compliance();
+  return start;
 }
 
 // The increment's control and target in the operator's components: the shift increment from
@@ -416,7 +436,7 @@ void Stepper::accumulate_slip(const VecField& u0, const VecField* tau0, const Ei
   const StateField before = moving ? state_.state : StateField();
   state_.classify(bound_, model_.scenario.solver.tolerance, work_.slip, slip_threshold());
   if (moving) {
-    const StepStart start{bound_start_, pressure_start_, before, *tau0};
+    const StepStart start = step_start(before, *tau0);
     step_work(&start, state_, bound_, s, work_);
   } else {
     step_work(nullptr, state_, bound_, s, work_);

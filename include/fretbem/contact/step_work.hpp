@@ -22,6 +22,11 @@ struct StepStart {
   const Field& pressure;     ///< p0 (Pa)
   const StateField& state;   ///< states of the previous step
   const VecField& traction;  ///< tau0 (Pa), operator components
+  /// Fraction theta of the step at which each node losing contact in it opened (contact_entry:
+  /// loss_fraction); null: at the step's end (theta = 1).
+  const Field* loss = nullptr;
+  double tangential_self =
+      0.0;  ///< c_tt: a node's tangential displacement per unit traction on its own cell (m/Pa)
 };
 
 /// The weights (w0, w1) of node k's bound (and pressure) at the step's start and end along its
@@ -39,11 +44,14 @@ BoundWeights bound_weights(const StepStart* start, const InterfaceState& end, co
 /// linear in the step:
 /// - bound fixed (start null), or the node starts to slip in the step: g1 |s|;
 /// - slipping before and after the step's start: trapezoid (g0 + g1)/2 |s|, second order;
-/// - losing contact in the step (g1 = 0 < g0): its traction relaxes with the bound from tau0
-///   to zero while it slips, doing work on the part of its slip along tau0,
-///   max(tau0 . s, 0) / 2; a slip against tau0 needs the traction reversed first, elastically,
-///   while the bound falls to zero, and counts nothing (the displacement after the node
-///   opened is free motion, not slip);
+/// - losing contact in the step (g1 = 0 < g0) at the fraction theta of it: its traction relaxes
+///   with the bound from tau0 = g0 e to zero over [0, theta] while it slips along e. Its slip
+///   there is its free motion f (the slip it would make carrying no traction, linear in the
+///   step: f = s - c_tt tau0 over the whole step) until theta plus its own elastic release
+///   c_tt g0, so the work is g0/2 (theta f.e + c_tt g0) = (theta tau0.s + (1 - theta) c_tt g0^2)/2;
+///   the displacement after the node opened is free motion, not slip. At most g0 |s| / 2; a
+///   slip against tau0 needs the traction reversed first, elastically, while the bound falls
+///   to zero, and counts nothing;
 /// - otherwise (stick, open, on the bound without slipping): nothing.
 /// The pressure along the slip takes the same weights on p0 and p1.
 void step_work(const StepStart* start, const InterfaceState& end, const Field& bound,

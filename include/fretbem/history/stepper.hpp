@@ -99,6 +99,8 @@ class Stepper {
                    StepRecord& rec);
   bool tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec);
   Field gap_start();
+  Field gap(const Field& uz, double delta);
+  StepStart step_start(const StateField& before, const VecField& tau0);
   bool shortcut_applies(std::size_t k) const;
   void shortcut_step(const LoadStep& ls, StepRecord& rec);
   Field shortcut_start(int k);
@@ -132,6 +134,7 @@ class Stepper {
   double indentation_start_ = 0.0;  ///< delta (m) before it
   bool load_moved_ = false;  ///< the normal solve followed a change of the load, not the surface
   StepWork work_;            ///< the last step's slip, pressure along it and work
+  Field loss_;               ///< step_start: the fraction of the step at which a node opened
   bool bound_moved_ = false;
   Field scale_bound_;            ///< the bound slip_threshold_ belongs to
   double slip_threshold_ = 0.0;  ///< slip of a slipping node in a step at least (m)
