@@ -68,7 +68,7 @@ StepRecord Stepper::advance_controlled(std::size_t k) {
   }
   HalfSpace& hs = *model_.half_space;
   const auto conv0 = hs.convolutions();
-  row_guess_ = guess_, row_time_ = b.time;
+  row_guess_ = guess_;
   substep_normal_iterations_ = substep_tangential_iterations_ = substep_coupling_iterations_ = 0;
   substep_ = true;
   const double tolerance = model_.scenario.load.tolerance;
@@ -93,13 +93,20 @@ StepRecord Stepper::advance_controlled(std::size_t k) {
 // Row a -> b in m equal sub-steps; leaves `last` the last sub-step's record and returns the
 // sum of their estimates relative to the dissipation scale: the mean dissipation per period
 // so far, or the row's own per period when larger.
+// A row solved whole keeps the start the row would have without the key (the cycle
+// predictor's traction one cycle earlier); sub-steps all start from the sub-step before, 1/m
+// of the row away. The predictor's start is not converged where the normal load varies (its
+// Coulomb residual 3e-5 to 1e-2 of |C g| on the sphere of tools/bench/step_control_cost.py,
+// of the order of the plain start's), and the last sub-steps that took it cost 275-365
+// convolutions each there on average, against 57-67 for the other sub-steps of the same rows
+// (docs/algorithms.md, "Run time against error").
 double Stepper::solve_substeps(const LoadStep& a, const LoadStep& b, int m, int k,
                                StepRecord& last) {
   const double dissipation0 = dissipation_, span = (b.time - a.time) / m;
   double work_error = 0.0;
   for (int j = 1; j <= m; ++j) {
     const LoadStep ls = j == m ? b : interpolate_load(a, b, double(j) / m);
-    guess_ = ls.time == row_time_ ? row_guess_ : nullptr;
+    guess_ = m == 1 ? row_guess_ : nullptr;
     last = estimated_substep(ls, k, span);
     work_error += last.step_error;
     substep_normal_iterations_ += last.normal_iterations;

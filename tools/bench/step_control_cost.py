@@ -7,7 +7,9 @@ Usage: step_control_cost.py FRETBEM CASE [--rows N] [--splits 1,2,4,8] [--tolera
 CASE: sphere (mindlin_cycle.ini's sphere at n = 96 under F_z = P (1 + 0.3 sin 2 pi t),
 F_x = 0.5 mu P cos 2 pi t, P = 10 N), displacement (the same F_z, U_x = 80 nm cos 2 pi t, n = 48)
 or rough (rough_fretting_cycle.ini at n = 64, F_z = 2 N (1 + 0.3 sin 2 pi t),
-F_x = 0.5 mu 2 N cos 2 pi t). The table samples the load at N rows a period from t = -1/4 over
+F_x = 0.5 mu 2 N cos 2 pi t); not tuned on: rough_displacement (the rough surface of seed 2,
+U_x = 30 nm cos 2 pi t) and cerruti (the sphere at n = 48, F_x = 0.7 mu P cos 2 pi t,
+solver.coupling = cerruti). The table samples the load at N rows a period from t = -1/4 over
 three periods; a table is linear between its rows, so the path is that piecewise-linear load.
 Fixed runs split every interval of it into s equal rows; the step limit of the third period's
 dissipation is Richardson (order 2) from the two largest splits. Error-controlled runs use the
@@ -24,15 +26,22 @@ import subprocess
 import sys
 import tempfile
 
+ROUGH = "type = rough\nmethod = fourier\nhurst = 0.8\nrms_height = 1e-7\nseed = %d\n"
 CASES = {
     "sphere": dict(n=96, length=2.8e-4, P=10.0, surface="type = sphere\nradius = 0.01\n",
                    column="Fx", amplitude=lambda P, mu: 0.5 * mu * P),
     "displacement": dict(n=48, length=2.8e-4, P=10.0, surface="type = sphere\nradius = 0.01\n",
                          column="Ux", amplitude=lambda P, mu: 80e-9),
     "rough": dict(n=64, length=1e-4, P=2.0,
-                  surface="type = rough\nmethod = fourier\nhurst = 0.8\nrms_height = 1e-7\n"
-                          "seed = 1\n",
+                  surface=ROUGH % 1,
                   column="Fx", amplitude=lambda P, mu: 0.5 * mu * P),
+    # Cases the step control was not tuned on: another rough seed under displacement control,
+    # and the sphere at another amplitude with the Cerruti operator.
+    "rough_displacement": dict(n=64, length=1e-4, P=2.0, surface=ROUGH % 2, column="Ux",
+                               amplitude=lambda P, mu: 30e-9),
+    "cerruti": dict(n=48, length=2.8e-4, P=10.0, surface="type = sphere\nradius = 0.01\n",
+                    column="Fx", amplitude=lambda P, mu: 0.7 * mu * P,
+                    solver="coupling = cerruti\n"),
 }
 MU = 0.5
 
@@ -67,7 +76,7 @@ def write_scenario(path, case, table, tolerance):
             f.write("control = displacement\n")
         if tolerance:
             f.write("tolerance = %g\n" % tolerance)
-        f.write("[solver]\nstiffness = none\n")
+        f.write("[solver]\nstiffness = none\n" + c.get("solver", ""))
 
 
 def run(binary, work, case, rows, split, tolerance):

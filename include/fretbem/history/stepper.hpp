@@ -167,7 +167,6 @@ class Stepper {
   VecField pressure_slip_;
   bool substep_ = false;  ///< advancing a sub-step of a row: no kx (the row's end computes it)
   const VecField* row_guess_ = nullptr;  ///< the predictor of the row being subdivided
-  double row_time_ = 0.0;                ///< its end time
   int substep_normal_iterations_ = 0, substep_tangential_iterations_ = 0;
   int substep_coupling_iterations_ = 0;
   EstimateMemory estimate_memory_;  ///< load.tolerance > 0: the step before the next one
