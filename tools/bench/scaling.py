@@ -13,12 +13,14 @@ Fits iterations per solve ~ n^a and CPU ~ n^2 log n * n^b by least squares in lo
     /usr/bin/python3 tools/bench/scaling.py [--binary build/fretbem] [--out scaling.md]
         [--ns 64,128,256,512] [--wear-max-n 512] [--check-n 2048,4096] [--budget SECONDS]
         [--cases mindlin,rough,wear] [--threads 1,2] [--wear-cycles 100] [--no-estimate]
-        [--quick]
+        [--stop-after N] [--quick]
 
 --cases picks the cases by name (a name selects its 2-cycle run too, "mindlin 1" only the
 first cycle: "mindlin 1,rough 1" for one cycle each at large n); --threads overrides the thread
 counts (default 1, and 1,2 from n = 512); --no-estimate skips check's cost calibration (its
-memory estimate stays), which at n >= 1024 costs minutes.
+memory estimate stays), which at n >= 1024 costs minutes; --stop-after N runs the first N steps
+of each run alone (`fretbem run --stop-after`: a contiguous first part where a whole run takes
+too long, e.g. the first reversal of a Mindlin cycle at n = 2048).
 
 --quick (n = 32, 64, no estimates beyond) is the smoke test registered in tests/CMakeLists.txt.
 Runs that would start after --budget seconds are skipped and listed as skipped.
@@ -109,9 +111,11 @@ def timeseries_counts(path):
     return steps, conv, nit / steps, tit / steps
 
 
-def measure(binary, scenario, sets, workdir):
+def measure(binary, scenario, sets, workdir, stop_after=None):
     out_dir = os.path.join(workdir, "run")
     cmd = [binary, "run", scenario, "--out", out_dir, "--overwrite", "--quiet"]
+    if stop_after:
+        cmd += ["--stop-after", str(stop_after)]
     cmd += [a for s in sets for a in ("--set", s)]
     code, text, cpu, wall, rss = timed_run(cmd)
     if code != 0:
@@ -151,6 +155,8 @@ def main():
     ap.add_argument("--threads", default="", help="thread counts (default 1; 1,2 from n = 512)")
     ap.add_argument("--wear-cycles", default="100", help="wear.cycles of the wear case")
     ap.add_argument("--no-estimate", action="store_true", help="skip check's cost calibration")
+    ap.add_argument("--stop-after", type=int, default=None,
+                    help="run the first N steps of each run only (fretbem run --stop-after)")
     args = ap.parse_args()
     cases = selected_cases(args.cases, args.wear_cycles)
     threads_for = (lambda n: [int(t) for t in args.threads.split(",")]) if args.threads else (
@@ -177,7 +183,7 @@ def main():
                     est = check_estimate(args.binary, scenario, all_sets,
                                          estimate=threads == 1 and "2cyc" not in name
                                          and not args.no_estimate)
-                    row = measure(args.binary, scenario, all_sets, work)
+                    row = measure(args.binary, scenario, all_sets, work, args.stop_after)
                     row["est"] = est
                     results[(name, n, threads)] = row
                     cps = row["conv"] / row["steps"] if "conv" in row else None
