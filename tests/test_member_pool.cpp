@@ -97,3 +97,24 @@ TEST(MemberPool, TwoJobsTwoWorkers) {
   }
   EXPECT_LE(pids.size(), 2u);
 }
+
+// A worker that ends while idle (as on a Ctrl-C, which reaches every process of the group):
+// the next member's job meets a closed pipe, and the study neither dies of SIGPIPE nor fails
+// the member, which runs in a fresh worker.
+TEST(MemberPool, AWorkerGoneWhileIdleIsReplaced) {
+  const StudyMembers m = stand_in_members(scratch("pool_gone_idle"));
+  PoolOptions opt;
+  opt.jobs = 1, opt.quiet = true, opt.binary = "fretbem";
+  opt.in_process = [](const std::vector<std::string>& args) {
+    const fs::path dir = out_dir_of(args);
+    std::ofstream(dir / "pid") << ::getpid();
+    std::ofstream(dir / "timeseries.csv") << "step\n0\n";
+    if (dir.filename() == "member_0") ::close(3);  // the worker's job pipe: it ends once idle
+    return 0;
+  };
+  auto queue = make_local_queue(pending_members(m));
+  ASSERT_TRUE(run_study_members(m, *queue, opt));
+  for (std::size_t k = 0; k < kMembers; ++k) EXPECT_TRUE(member_complete(m, k)) << k;
+  EXPECT_NE(pid_of(m, 0), pid_of(m, 1));
+  EXPECT_EQ(pid_of(m, 1), pid_of(m, 5));
+}

@@ -1,5 +1,6 @@
 #include <fcntl.h>
 #include <poll.h>
+#include <pthread.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -104,6 +105,25 @@ int run_job(const MemberEntry& entry, const std::vector<std::string>& args, cons
   return code;
 }
 
+// The job to a worker. One that died while idle (a Ctrl-C reaches the whole process group)
+// has closed its end: the write then fails with EPIPE instead of raising SIGPIPE, which would
+// end the study before it records its members.
+bool send_job(int fd, const std::vector<std::string>& args, const fs::path& log) {
+  sigset_t pipe_signal, old;
+  sigemptyset(&pipe_signal);
+  sigaddset(&pipe_signal, SIGPIPE);
+  pthread_sigmask(SIG_BLOCK, &pipe_signal, &old);
+  const std::uint32_t count = std::uint32_t(args.size());
+  bool sent = write_string(fd, log.string()) && write_all(fd, &count, sizeof count);
+  for (std::size_t i = 0; sent && i < args.size(); ++i) sent = write_string(fd, args[i]);
+  if (!sent) {
+    const timespec now{};
+    sigtimedwait(&pipe_signal, nullptr, &now);  // the SIGPIPE the failed write left pending
+  }
+  pthread_sigmask(SIG_SETMASK, &old, nullptr);
+  return sent;
+}
+
 [[noreturn]] void worker_main(const MemberEntry& entry, int job_fd, int result_fd) {
   const int job = ::fcntl(job_fd, F_DUPFD, kResultFd + 1);
   const int result = ::fcntl(result_fd, F_DUPFD, kResultFd + 1);
@@ -134,19 +154,16 @@ class WorkerLauncher final : public MemberLauncher {
     for (Worker& w : workers_) retire(w);
   }
 
+  // An idle worker that is gone is replaced once by a fresh one.
   std::optional<int> start(const std::vector<std::string>& args, const fs::path& log) override {
-    const int h = idle_worker();
-    if (h < 0) return std::nullopt;
-    Worker& w = workers_[std::size_t(h)];
-    const std::uint32_t count = std::uint32_t(args.size());
-    bool sent = write_string(w.job_fd, log.string()) && write_all(w.job_fd, &count, sizeof count);
-    for (std::size_t i = 0; sent && i < args.size(); ++i) sent = write_string(w.job_fd, args[i]);
-    if (!sent) {
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      const int h = idle_worker();
+      if (h < 0) return std::nullopt;
+      Worker& w = workers_[std::size_t(h)];
+      if (send_job(w.job_fd, args, log)) return w.busy = true, h;
       retire(w);
-      return std::nullopt;
     }
-    w.busy = true;
-    return h;
+    return std::nullopt;
   }
 
   std::optional<int> poll(int h) override { return collect(h, 0); }
