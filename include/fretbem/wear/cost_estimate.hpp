@@ -30,7 +30,7 @@ inline constexpr double kExplicitRangeFactor = 2.5;
 /// Cost of a simulated cycle in a run over that of the calibration's warm evaluation: later
 /// evaluations start farther from their answers (the worn surface has moved a whole step),
 /// and the implicit method adds its inner products. Measured on rough_fretting_wear.ini and
-/// fretting_wear.ini: convolutions 1.2-1.7 times (n = 64), CPU 1.0-1.5 times (n = 128-256,
+/// fretting_wear.ini: convolutions 1.2-1.7 times (n = 64), CPU 1.1-1.7 times (n = 128-256,
 /// docs/reliability.md).
 inline constexpr double kWarmCostFactor = 1.2;
 /// The runs' cost per simulated cycle lies within this factor either side of the estimate
