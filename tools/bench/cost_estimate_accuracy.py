@@ -30,7 +30,10 @@ CASES = [
     ("rough cycle n=128", "rough_fretting_cycle.ini", ["grid.n=128"]),
     ("rough monotone n=256", "rough_monotone.ini", []),
     ("fretting wear n=64", "fretting_wear.ini", ["grid.n=64"]),
+    ("fretting wear n=128", "fretting_wear.ini", []),
     ("rough wear n=64", "rough_fretting_wear.ini", ["grid.n=64"]),
+    ("rough wear n=128 N=1e5 rtol=1e-2", "rough_fretting_wear.ini",
+     ["grid.n=128", "wear.cycles=1e5", "wear.rtol=1e-2"]),
     ("gross-slip wear n=64", "gross_slip_wear.ini", ["grid.n=64"]),
 ]
 
@@ -66,6 +69,8 @@ def measure(exe, name, scenario, sets, out_dir):
         m = re.search(r"cost: about ([0-9.e+]+)(?: to ([0-9.e+]+))? s", chk)
         row["pred_cpu_low"] = float(m.group(1))
         row["pred_cpu_high"] = float(m.group(2) or m.group(1))
+        # CPU per simulated cycle: the run's against the estimate's (kWarmCostFactor).
+        row["cycle_ratio"] = run_cpu / row["measured"] / num(r"FFT convolutions, ([0-9.e+]+) s", chk)
     else:
         row["pred_low"] = row["pred_high"] = num(r"cost: about ([0-9.e+]+) FFT", chk)
         with open(os.path.join(run_dir, "timeseries.csv")) as f:
@@ -80,8 +85,8 @@ def main():
     only = [sys.argv[i + 1] for i, a in enumerate(sys.argv) if a == "--case"]
     out_dir = out_dir or tempfile.mkdtemp(prefix="cost_estimate_")
     print("| case | predicted | measured | measured / predicted | predicted CPU s | "
-          "run CPU s | measured / predicted | calibration CPU s |")
-    print("|---|---|---|---|---|---|---|---|")
+          "run CPU s | measured / predicted | calibration CPU s | run / predicted CPU per cycle |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for name, scenario, sets in CASES:
         if only and not any(o in name for o in only):
             continue
@@ -91,7 +96,8 @@ def main():
               f"{rng(r['measured'] / r['pred_high'], r['measured'] / r['pred_low'], '%.2f')} | "
               f"{rng(r['pred_cpu_low'], r['pred_cpu_high'], '%.2g')} | {r['run_cpu']:.2f} | "
               f"{rng(r['run_cpu'] / r['pred_cpu_high'], r['run_cpu'] / r['pred_cpu_low'], '%.2f')} | "
-              f"{r['calibration_cpu']:.2f} |", flush=True)
+              f"{r['calibration_cpu']:.2f} | "
+              f"{'%.2f' % r['cycle_ratio'] if 'cycle_ratio' in r else '–'} |", flush=True)
 
 
 if __name__ == "__main__":

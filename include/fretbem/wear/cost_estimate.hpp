@@ -1,6 +1,8 @@
 // What a wear run will cost, before it runs (`fretbem check`): the first steady
 // cycle of the unworn surface is simulated at the scenario's grid; its largest slip gives the
-// explicit stability cap, its FFT convolutions and wall time the cost of one simulated cycle.
+// explicit stability cap. A second one, on the surface worn by the run's first step and started
+// from the first one's solves as the run's evaluations are, gives the FFT convolutions and CPU
+// time of one simulated cycle.
 #pragma once
 
 #include <string>
@@ -24,6 +26,16 @@ struct WearCostEstimate {
 /// The explicit runs measured 1.3-2.0x their lower estimate (error control shortens the first
 /// steps, docs/reliability.md); the upper end of the range is this factor times the lower.
 inline constexpr double kExplicitRangeFactor = 2.5;
+
+/// Cost of a simulated cycle in a run over that of the calibration's warm evaluation: later
+/// evaluations start farther from their answers (the worn surface has moved a whole step),
+/// and the implicit method adds its inner products. Measured on rough_fretting_wear.ini and
+/// fretting_wear.ini: convolutions 1.2-1.7 times (n = 64), CPU 1.1-1.7 times (n = 128-256,
+/// docs/reliability.md).
+inline constexpr double kWarmCostFactor = 1.2;
+/// The runs' cost per simulated cycle lies within this factor either side of the estimate
+/// (convolutions: ctest CostEstimate; CPU at n >= 128: docs/reliability.md).
+inline constexpr double kWarmCostBand = 2.0;
 
 /// Expected simulated cycles of a wear run, a range (cycles).
 struct SimulatedCycles {
