@@ -647,62 +647,6 @@ TEST(MasingImage, ContinuedStartBuildsNoShiftedStarts) {
   EXPECT_GE(lean, steps * 3 / 4) << lean << " of " << steps;
 }
 
-// The first virgin step starts on step 0's full-stick traction (the k_x solve's response to a
-// unit shift with every contact node stuck) scaled to the step's force and projected onto the
-// bound: Cattaneo's traction to first order in the load. With `kx` at step 0 (`turning`) it
-// builds neither force-shifted start (two products) and iterates from closer than they do;
-// without `kx` it starts on the shifted starts. Both solve the same increment: U_x within the
-// tolerance's reach. Mindlin–Deresiewicz sine, 32 steps a cycle, n = 64.
-TEST(MasingImage, FirstVirginStepStartsOnTheStickResponse) {
-  const std::string load = sine_load(0.6, 1, 32);
-  const Recorder with = run(sphere_scenario(64, load, "stiffness = turning\n"));
-  const Recorder without = run(sphere_scenario(64, load, "stiffness = none\n"));
-  const StepRecord &a = with.rows.at(1), &b = without.rows.at(1);
-  EXPECT_LE(a.convolutions + 2, b.convolutions) << a.convolutions << " " << b.convolutions;
-  EXPECT_LT(a.tangential_iterations, b.tangential_iterations);
-  EXPECT_NEAR(a.Ux, b.Ux, 1e-6 * std::abs(b.Ux));
-  EXPECT_NEAR(a.Fx, b.Fx, 1e-12 * std::abs(b.Fx));
-}
-
-// The start's scale under force control: its force is the target to round-off and it stays
-// within the bound, on a response that passes the bound at the contact's edge (1/sqrt(a^2 -
-// r^2), the shape of a rigid punch's traction) against the Hertzian bound mu p.
-TEST(MasingImage, StickStartCarriesTheTargetForce) {
-  const int n = 64;
-  const double a = 0.25, h = 1.0 / n;
-  Field bound = Field::Zero(n, n), response = Field::Zero(n, n);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      const double x = (i + 0.5) * h - 0.5, y = (j + 0.5) * h - 0.5, r2 = x * x + y * y;
-      if (r2 >= a * a) continue;
-      bound(i, j) = std::sqrt(1.0 - r2 / (a * a));
-      response(i, j) = 1.0 / std::sqrt(a * a - r2);
-    }
-  const double full = bound.sum() * h * h;
-  MasingImage m;
-  for (const double q : {0.05, 0.3, -0.6}) {
-    const VecField* start = m.stick_start(response, bound, q * full, true, h * h);
-    ASSERT_NE(start, nullptr) << q;
-    EXPECT_NEAR((*start)[0].sum() * h * h, q * full, 1e-13 * full) << q;
-    EXPECT_LE(((*start)[0].abs() - bound).maxCoeff(), 0.0) << q;
-  }
-}
-
-// The start of the first virgin step reads step 0's response, which the checkpoint holds: a
-// run stopped after step 0 and resumed is byte-identical to the uninterrupted one (`kx` every
-// step, the default).
-TEST(Resume, StickResponseIsCheckpointed) {
-  const fs::path d = scenario_file("resume_stick", sphere_scenario(48, sine_load(0.6, 1, 16)));
-  const std::string bin = FRETBEM_BINARY, ini = (d / "s.ini").string();
-  ASSERT_EQ(sh(bin + " run " + ini + " --quiet --out " + (d / "full").string()), 0);
-  ASSERT_EQ(sh(bin + " run " + ini + " --quiet --stop-after 1 --out " + (d / "part").string()), 0);
-  ASSERT_EQ(sh("h5ls -r " + (d / "part" / "checkpoint.h5").string() + " | grep -q stick_response"),
-            0);
-  ASSERT_EQ(sh(bin + " run --quiet --resume " + (d / "part").string()), 0);
-  expect_same_run(d / "full", d / "part");
-  fs::remove_all(d);
-}
-
 // A monotone force ramp (no branch follows) starts its steps from the second on at the virgin
 // secant, without the force-shifted starts: the same product count as on a cycle's virgin
 // quarter (MasingImage.ContinuedStartBuildsNoShiftedStarts), where before every step built

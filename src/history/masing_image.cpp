@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -188,46 +187,6 @@ const VecField* MasingImage::branch_start(double level, const Field& bound) {
   image_.assign(1, turning_);
   const double factor = 2.0 * (level < turning_level_ ? -1.0 : 1.0) * sign_;
   continue_secant(i0, index(recent_.back()), half, bound, factor, image_[0]);
-  return &image_;
-}
-
-// Cattaneo's traction at a small load is the full-stick one: with c the stick radius of a
-// Hertz contact, mu p0 / a (sqrt(a^2 - r^2) - sqrt(c^2 - r^2)) tends to (a^2 - c^2) mu p0 /
-// (2 a sqrt(a^2 - r^2)) on the stick disc, the shape of a rigid shift's traction; the nodes
-// where it passes the bound start to slip. Under force control the scale s solves
-// f(s) = sum clamp(s psi, -g, g) h^2 = F by Newton's method: f is piecewise linear, and concave
-// for psi >= 0, so the iterates rise monotonically from s = F / sum psi h^2 and stop at the
-// kink below F in a few steps (the solver's force restoration takes what is left).
-const VecField* MasingImage::stick_start(const Field& response, const Field& bound, double target,
-                                         bool force, double cell_area) {
-  if (response.size() != bound.size() || !(target != 0.0)) return nullptr;
-  const double sign = target < 0.0 ? -1.0 : 1.0, want = std::abs(target) / cell_area;
-  auto traction = [&](double s, double* slope) {
-    double f = 0.0, df = 0.0;
-    for (Eigen::Index k = 0; k < bound.size(); ++k) {
-      const double t = s * response(k), g = bound(k);
-      if (std::abs(t) < g) df += response(k);
-      f += std::clamp(t, -g, g);
-    }
-    double sums[2] = {f, df};
-    comm_->sum(std::span<double>(sums, 2));
-    if (slope) *slope = sums[1];
-    return sums[0];
-  };
-  double s = std::abs(target);
-  if (force) {
-    double slope = 0.0;
-    traction(0.0, &slope);  // sum psi h^2 / h^2 over the contact: f's slope at s = 0
-    s = slope > 0.0 ? want / slope : 0.0;
-    for (int it = 0; it < kScaleIterations && s > 0.0; ++it) {
-      const double f = traction(s, &slope);
-      if (!(f < want * (1.0 - 1e-14)) || !(slope > 0.0)) break;
-      s += (want - f) / slope;
-    }
-    if (!(s > 0.0) || !std::isfinite(s)) return nullptr;
-  }
-  image_.assign(1, Field(bound.rows(), bound.cols()));
-  image_[0] = sign * (s * response).max(-bound).min(bound);
   return &image_;
 }
 

@@ -60,7 +60,6 @@ StepperMemory Stepper::memory() const {
   for (std::size_t c = 0; c < pressure_slip_.size(); ++c)
     m.fields["pressure_slip" + std::to_string(c)] = pressure_slip_[c];
   if (shortcut_p_star_.size() > 0) m.fields["shortcut_p_star"] = shortcut_p_star_;
-  if (stick_response_.size() > 0) m.fields["stick_response"] = stick_response_;
   return m;
 }
 
@@ -88,8 +87,6 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m,
   if (w0 != m.fields.end() && w1 != m.fields.end()) pressure_slip_ = {w0->second, w1->second};
   const auto p_star = m.fields.find("shortcut_p_star");
   shortcut_p_star_ = p_star != m.fields.end() ? p_star->second : Field();
-  const auto response = m.fields.find("stick_response");
-  stick_response_ = response != m.fields.end() ? response->second : Field();
 }
 
 StepRecord Stepper::advance(std::size_t k) {
@@ -103,24 +100,16 @@ StepRecord Stepper::advance(std::size_t k) {
   const MasingImage::Plan& mp = masing_plan_;
   const VecField* start = nullptr;
   if (!mp.image.empty() && mp.image[k]) start = masing_.branch_start(mp.level[k], bound_);
-  if (!mp.virgin.empty() && mp.virgin[k] && !guess_) {
+  if (!mp.virgin.empty() && mp.virgin[k] && !guess_)
     start = masing_.virgin_start(mp.level[k], bound_);
-    if (!start && stick_response_.size() > 0) start = first_virgin_start(steps.at(k));
-  }
   guess_continues_ = start != nullptr;
   if (start) guess_ = start;
   const bool controlled = model_.scenario.load.tolerance > 0.0;
   const StepRecord rec = controlled && k > 0 ? advance_controlled(k) : advance(steps.at(k), int(k));
   guess_ = nullptr, guess_continues_ = false;
   shortcut_ = false;
-  if (!mp.virgin.empty() && mp.virgin[k]) {
+  if (!mp.virgin.empty() && mp.virgin[k])
     masing_.record_virgin(mp.level[k], state_.traction[0], bound_, mp.branches);
-    stick_response_ = Field();
-  }
-  // Every contact node sticks at step 0: its k_x solve's response is the full-stick traction.
-  if (k == 0 && !mp.virgin.empty() && std::isfinite(rec.kx) &&
-      !model_.stiffness->response().empty())
-    stick_response_ = model_.stiffness->response()[0];
   if (!mp.image.empty() && mp.image[k])
     masing_.record_branch(mp.level[k], state_.traction[0], bound_);
   if (!mp.turning.empty() && mp.turning[k]) masing_.record_turning(mp.level[k], state_.traction[0]);
@@ -305,16 +294,6 @@ bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
   state_.shift += op.to_global(r.shift);
   accumulate_slip(*inc.u0, &tau0, r.shift, rec);
   return true;
-}
-
-// MasingImage::stick_start for step `ls` (one normal load on the path: the state's F_z is the
-// step's).
-const VecField* Stepper::first_virgin_start(const LoadStep& ls) {
-  TangentialIncrement inc;
-  set_target(ls, inc);
-  const bool force = inc.control == TangentialControl::force;
-  return masing_.stick_start(stick_response_, bound_, inc.target(0), force,
-                             model_.half_space->grid().cell_area());
 }
 
 // The normal gap (m) at the start of the step: the separation z_max - z less the approach,

@@ -36,10 +36,6 @@ class StiffnessSolver {
   /// residual below the tolerance, whichever comes first (about half the iterations of the
   /// residual test alone). Throws SolverError when neither is reached.
   StiffnessResult solve(const StateField& state);
-  /// psi of the last solve (Pa per m of shift along component 0, zero off its stick set):
-  /// the traction of a unit rigid shift with the stick nodes held. Empty before the first
-  /// solve; a reused stick set leaves the last solved one's.
-  const VecField& response() const { return psi_; }
 
  private:
   class Iteration;  // the CG problem of one solve (stiffness.cpp)

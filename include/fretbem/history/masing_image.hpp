@@ -29,8 +29,6 @@ class MasingImage {
   /// cycle at 20 % contact records 16 levels: ~26 bytes per cell); further levels are not
   /// recorded (the image then exists only up to the last recorded load).
   static constexpr double kBytesPerCell = 128.0;
-  /// Newton steps of stick_start's force scale at most (a Hertz contact needs 3-5).
-  static constexpr int kScaleIterations = 50;
 
   /// For each step k of a path: whether the increment of step k starts from the image. True on
   /// the branches after the first turning point of a path whose normal load and control never
@@ -74,14 +72,6 @@ class MasingImage {
   /// recorded levels (load 0, where tau_v = 0, counting as one), or nullptr before the first
   /// level or once the table is full. Valid until the next call.
   const VecField* virgin_start(double level, const Field& bound);
-  /// The start of the first virgin step from the unloaded state, before any level is
-  /// recorded: the full-stick traction `response` (Pa per m: StiffnessSolver::response of the
-  /// whole contact at step 0) scaled to the step's `target` and projected onto the bound
-  /// `bound` (Pa). Under force control (`force`) the scale gives the total force `target` (N,
-  /// cells of area `cell_area` m^2), else it is the shift `target` (m). nullptr when the
-  /// scale cannot reach the force. Valid until the next call.
-  const VecField* stick_start(const Field& response, const Field& bound, double target, bool force,
-                              double cell_area);
 
   /// Restart support: the table and the branch origin as one flat list of numbers (the
   /// checkpoint's dataset `masing`; empty when nothing is recorded), and the image it holds

@@ -86,7 +86,6 @@ class Stepper {
   bool normal_step(const LoadStep& ls, StepRecord& rec);
   void solve_normal(const LoadStep& ls, const Field& z, StepRecord& rec);
   void set_target(const LoadStep& ls, TangentialIncrement& inc) const;
-  const VecField* first_virgin_start(const LoadStep& ls);
   bool coupled_step(const LoadStep& ls, StepRecord& rec);
   TangentialResult coupled_tangential(const LoadStep& ls, const VecField& tau0, const VecField& u0,
                                       StepRecord& rec);
@@ -150,9 +149,6 @@ class Stepper {
   MasingImage masing_;                ///< the Masing image's virgin table and branch origin
   const VecField* guess_ = nullptr;   ///< the predictor of the step being advanced
   bool guess_continues_ = false;      ///< guess_ is the Masing image or a secant (no comparison)
-  /// Step 0's full-stick traction per unit shift (StiffnessSolver::response), kept for the
-  /// first virgin step's start (MasingImage::stick_start) until that step is solved.
-  Field stick_response_;
   /// The step being advanced is path step k on the path's first monotone segment, where the
   /// Ciavarella–Jäger shortcut holds. Only a path index says so: a step given explicitly (a
   /// wear cycle's, whose index is a row) is solved incrementally. Judged by its row index, every
