@@ -25,8 +25,8 @@ struct StepStart {
   /// Fraction theta of the step at which each node losing contact in it opened (contact_entry:
   /// loss_fraction); null: at the step's end (theta = 1).
   const Field* loss = nullptr;
-  double tangential_self =
-      0.0;  ///< c_tt: a node's tangential displacement per unit traction on its own cell (m/Pa)
+  /// c_tt: a node's tangential displacement per unit traction on its own cell (m/Pa).
+  double tangential_self = 0.0;
 };
 
 /// The weights (w0, w1) of node k's bound (and pressure) at the step's start and end along its
