@@ -49,6 +49,7 @@ MemoryEstimate estimate_memory(const Scenario& sc, bool cycle_predictor) {
   // Two traction components double what the predictor remembers and starts from.
   if (cycle_predictor) m.predictor = cells * MemoryCosts::kPredictor * (two ? 2.0 : 1.0);
   if (masing_possible(sc, two)) m.masing = cells * MemoryCosts::kMasing;
+  if (sc.wear.law != WearLaw::none) m.wear = cells * MemoryCosts::kWear;
   return m;
 }
 

@@ -20,10 +20,11 @@ namespace fretbem {
 namespace {
 
 // The trapezoid's error summed over a cycle against the error of the cycle's dissipation
-// measured against its step limit (tools/bench/step_control_cost.py, 32-128 rows a period):
-// 4.0-5.2x on the sphere, 3.4-37x under displacement control, 13-80x on the rough surface (the
-// steps' errors partly cancel over a cycle; the bound's quadrature is not the only one). A
-// third of it stays above every measured error.
+// measured against its step limit (tools/bench/uniform_step_error.py, uniform steps of 32-128
+// rows a period): 3.7-4.7x on the sphere, 3.5-9.7x under displacement control, 6.4-7.1x on the
+// rough surface (the steps' errors partly cancel over a cycle; the bound's quadrature is not
+// the only one). A third of it stays above every measured error of uniform steps (1.17x the
+// least).
 constexpr double kMeasuredOverestimate = 3.0;
 
 }  // namespace

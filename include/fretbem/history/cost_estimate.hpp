@@ -25,7 +25,8 @@ struct MemoryEstimate {
   double solver = 0.0;     ///< every run
   double predictor = 0.0;  ///< the cycle predictor (Model::cycle_predictor)
   double masing = 0.0;     ///< the Masing image (where it can apply, MasingImage::plan)
-  double total() const { return program + solver + predictor + masing; }
+  double wear = 0.0;       ///< a wear run's surfaces, integrator vectors and warm starts
+  double total() const { return program + solver + predictor + masing + wear; }
 };
 
 /// The table of memory costs (bytes per grid cell unless stated).
@@ -49,6 +50,11 @@ struct MemoryCosts {
   /// The Masing image (1-cycle Mindlin run over solver.predictor = none): 237 (n = 128) and
   /// 308 (n = 512) bytes per cell, its table bound MasingImage::kBytesPerCell included.
   static constexpr double kMasing = 350.0;
+  /// A wear run (any wear.law) over the solver's share: rough_fretting_wear.ini to N = 1e5 at
+  /// wear.rtol = 1e-2 (implicit TR-BDF2) peaked at 41.7, 83.5 and 269 MiB at n = 128, 256 and
+  /// 512, 318, 186 and 226 bytes per cell above the program and the solver's share: the
+  /// largest, rounded up with the margin the other shares keep.
+  static constexpr double kWear = 400.0;
 };
 
 /// The memory a run of `sc` needs at its peak; `cycle_predictor` as use_cycle_predictor
