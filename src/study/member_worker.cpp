@@ -27,10 +27,6 @@ namespace {
 constexpr int kJobFd = 3;     // study -> worker: the member's command and log
 constexpr int kResultFd = 4;  // worker -> study: the member's exit status
 
-int exit_status(int status) {
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
 bool write_all(int fd, const void* data, std::size_t n) {
   const char* p = static_cast<const char*>(data);
   while (n > 0) {
@@ -222,7 +218,7 @@ class WorkerLauncher final : public MemberLauncher {
     while (::waitpid(w.pid, &status, 0) < 0)
       if (errno != EINTR) return w = Worker{}, 127;
     w = Worker{};
-    return exit_status(status);
+    return exit_code(status);
   }
 
   MemberEntry entry_;

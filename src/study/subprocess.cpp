@@ -50,13 +50,9 @@ pid_t spawn_logged(const std::vector<std::string>& args, const std::filesystem::
   return rc == 0 ? pid : -1;
 }
 
-namespace {
-
-int exit_code(int status) {
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+int exit_code(int wait_status) {
+  return WIFEXITED(wait_status) ? WEXITSTATUS(wait_status) : 128 + WTERMSIG(wait_status);
 }
-
-}  // namespace
 
 std::optional<int> poll_child(pid_t pid) {
   int status = 0;

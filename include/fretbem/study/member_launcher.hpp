@@ -35,6 +35,9 @@ class MemberLauncher {
   virtual void terminate(int handle) = 0;
 };
 
+/// The exit status of a waitpid status: the exit code, or 128 + the signal that ended it.
+int exit_code(int wait_status);
+
 /// Each member a process of its own: args[0] is executed.
 std::unique_ptr<MemberLauncher> make_spawn_launcher();
 /// Members in forked worker processes that call `entry` (args[0] is not executed). To be
