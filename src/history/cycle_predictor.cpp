@@ -101,6 +101,17 @@ const VecField* CyclePredictor::find(const LoadStep& prev, const LoadStep& cur, 
   return nullptr;
 }
 
+void CyclePredictor::onto_moved_bound(const Field& bound, double largest, VecField& traction) {
+  const double band = kOnBoundBand * largest;
+  for (Eigen::Index k = 0; k < bound.size(); ++k) {
+    double t2 = 0.0;
+    for (const Field& c : traction) t2 += c(k) * c(k);
+    const double t = std::sqrt(t2);
+    if (t > 0.0 && t < bound(k) && bound(k) - t <= band)
+      for (Field& c : traction) c(k) *= bound(k) / t;
+  }
+}
+
 // Entries that share a node list are neighbours (a list is shared only with the newest entry
 // when it is remembered), so each list counts once: where it differs from the previous entry's.
 void CyclePredictor::recount() {

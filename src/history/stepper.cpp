@@ -104,9 +104,10 @@ StepRecord Stepper::advance(std::size_t k) {
     start = masing_.virgin_start(mp.level[k], bound_);
   guess_continues_ = start != nullptr;
   if (start) guess_ = start;
+  guess_predicted_ = guess_ && !start;
   const bool controlled = model_.scenario.load.tolerance > 0.0;
   const StepRecord rec = controlled && k > 0 ? advance_controlled(k) : advance(steps.at(k), int(k));
-  guess_ = nullptr, guess_continues_ = false;
+  guess_ = nullptr, guess_continues_ = false, guess_predicted_ = false;
   shortcut_ = false;
   if (!mp.virgin.empty() && mp.virgin[k])
     masing_.record_virgin(mp.level[k], state_.traction[0], bound_, mp.branches);
@@ -261,6 +262,13 @@ bool Stepper::tangential_step(const LoadStep& ls, bool bound_changed, StepRecord
   inc.guess = guess_;
   inc.guess_continues = guess_continues_;
   inc.contact_fixed = contact_fixed_;
+  VecField predicted;
+  if (guess_ && guess_predicted_ && bound_moved_) {
+    predicted = *guess_;
+    CyclePredictor::onto_moved_bound(
+        bound_, model_.half_space->communicator().max(bound_.maxCoeff()), predicted);
+    inc.guess = &predicted;
+  }
   set_target(ls, inc);
   const bool same_load = last_target_.size() == inc.target.size() &&
                          (inc.control == TangentialControl::force ? last_target_ == inc.target

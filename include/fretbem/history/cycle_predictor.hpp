@@ -34,6 +34,18 @@ class CyclePredictor {
   /// The traction (Pa, full grid, operator components) remembered for a step that went from
   /// load `prev` to load `cur`, or nullptr. The pointer is valid until the next call.
   const VecField* find(const LoadStep& prev, const LoadStep& cur, Eigen::Index nx, Eigen::Index ny);
+  /// The remembered traction (Pa) as the start of a step whose bound g (Pa) moved since it
+  /// was remembered (a varying normal load): every node inside its disc by less than
+  /// kOnBoundBand x `largest` (the largest bound over the grid, Pa) is put on it. The bound of
+  /// the same row one period earlier differs by the normal solves' error, and a node remembered
+  /// slipping on it lies just inside the new disc, where the solver takes it for a stick node
+  /// with a whole step's slip (docs/algorithms.md, "Tangential increment").
+  static void onto_moved_bound(const Field& bound, double largest, VecField& traction);
+  /// Measured on the varying-load sphere of tools/bench/step_control_cost.py (solver.tolerance
+  /// 1e-8): such nodes lie 1e-9 to 1e-6 of the largest bound inside; a stick node put on its
+  /// bound changes only where the iteration starts.
+  static constexpr double kOnBoundBand = 1e-4;
+
   /// Remembers the traction on the contact nodes (bound > 0) after the step prev -> cur.
   void remember(const LoadStep& prev, const LoadStep& cur, const VecField& traction,
                 const Field& bound);

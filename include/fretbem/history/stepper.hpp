@@ -152,6 +152,7 @@ class Stepper {
   MasingImage masing_;                ///< the Masing image's virgin table and branch origin
   const VecField* guess_ = nullptr;   ///< the predictor of the step being advanced
   bool guess_continues_ = false;      ///< guess_ is the Masing image or a secant (no comparison)
+  bool guess_predicted_ = false;      ///< guess_ is the cycle predictor's (CyclePredictor::find)
   /// The step being advanced is path step k on the path's first monotone segment, where the
   /// Ciavarella–Jäger shortcut holds. Only a path index says so: a step given explicitly (a
   /// wear cycle's, whose index is a row) is solved incrementally. Judged by its row index, every
