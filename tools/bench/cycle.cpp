@@ -12,7 +12,9 @@
 // The unit (bare_convolution.hpp) is sampled before every timed cycle and after the last; each
 // row uses the median of its own samples and reports their spread (min-max over median).
 //
-// Usage: bench_cycle [--max-n N] [--repeats R] [--min-n N]
+// Usage: bench_cycle [--max-n N] [--repeats R] [--min-n N] [--headline 1] [--cycles C]
+// (--headline 1: only the headline configuration, stiffness = turning with the predictor;
+// --cycles C: cycles of the rows with the predictor, 3 unless given, for profiling steady ones.)
 #include <algorithm>
 #include <cstdio>
 #include <ctime>
@@ -65,19 +67,24 @@ std::vector<CycleCost> all_cycles(int n, const char* stiffness, const char* pred
   return out;
 }
 
-int max_n = 512, min_n = 128, repeats = 3;
+int max_n = 512, min_n = 128, repeats = 3, headline = 0, predicted_cycles = 3;
 
 void usage(int code) {
-  bench::exit_with_usage(code, "usage: bench_cycle [--min-n N] [--max-n N] [--repeats R]\n");
+  bench::exit_with_usage(
+      code,
+      "usage: bench_cycle [--min-n N] [--max-n N] [--repeats R] [--headline 0|1] [--cycles C]\n");
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  bench::parse_int_options(
-      argc, argv,
-      {{"--max-n", &max_n, 8, 4096}, {"--min-n", &min_n, 8, 4096}, {"--repeats", &repeats, 1, 100}},
-      usage);
+  bench::parse_int_options(argc, argv,
+                           {{"--max-n", &max_n, 8, 4096},
+                            {"--min-n", &min_n, 8, 4096},
+                            {"--repeats", &repeats, 1, 100},
+                            {"--headline", &headline, 0, 1},
+                            {"--cycles", &predicted_cycles, 2, 1000}},
+                           usage);
   std::printf("load average %.2f at start\n\n", bench::load_average());
   std::printf(
       "| n | stiffness | predictor | cycle | cycle wall (s) | cycle CPU (s) | convolutions / cycle "
@@ -88,8 +95,10 @@ int main(int argc, char** argv) {
     bench::BareConvolution unit(n, true);
     std::vector<double> all;
     for (const char* predictor : {"none", "cycle"}) {
-      const int cycles = predictor[0] == 'n' ? 2 : 3;
+      if (headline && predictor[0] == 'n') continue;
+      const int cycles = predictor[0] == 'n' ? 2 : predicted_cycles;
       for (const char* stiff : {"every", "turning", "none"}) {
+        if (headline && stiff[0] != 't') continue;
         std::vector<std::vector<double>> wall(cycles), cpu(cycles);
         std::vector<long> conv(cycles);
         for (int r = 0; r < repeats; ++r) {
