@@ -7,7 +7,8 @@
 // Masing image starting its opening quarter), the convolutions it used, and the CPU time in units
 // of one bare convolution of the same padded size measured in the same run (machine-independent),
 // and per convolution the solvers performed (the overhead of their element-wise passes).
-// FFT plans as `fretbem run` makes them (MEASURE with wisdom), one thread.
+// FFT plans as `fretbem run` makes them (MEASURE with wisdom), one thread, and the allocator
+// kept from returning freed memory to the kernel as `fretbem run` keeps it (keep_freed_memory).
 //
 // The unit (bare_convolution.hpp) is sampled before every timed cycle and after the last; each
 // row uses the median of its own samples and reports their spread (min-max over median).
@@ -24,6 +25,7 @@
 
 #include "bare_convolution.hpp"
 #include "bench_util.hpp"
+#include "fretbem/core/resources.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
 
@@ -78,6 +80,7 @@ void usage(int code) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  keep_freed_memory();  // as fretbem's main: the cycles reuse freed grid-sized buffers
   bench::parse_int_options(argc, argv,
                            {{"--max-n", &max_n, 8, 4096},
                             {"--min-n", &min_n, 8, 4096},
