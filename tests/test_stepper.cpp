@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -715,6 +716,55 @@ TEST(Predictor, ConvergedGuessCostsOneProduct) {
     EXPECT_EQ(r.rows[k].tangential_iterations, 0) << k;
     EXPECT_EQ(r.rows[k].convolutions, 1) << k;
   }
+}
+
+// At one normal load the stepper books a step's slip, states and work on the contact nodes
+// only. Checked on every node against the step's own kinematics, s = dU - (u - u0) with dU the
+// shift increment: a slip node gains |s| of slip path and g |s| of work (Coulomb, the bound
+// fixed within the step), every other contact node nothing; nodes off contact stay open with
+// no slip, path or work; the nodal work sums to the dissipation column. Differences of shifts
+// carry the round-off of the shift (~1e-16 U), hence the bound 1e-12 of the largest |U|.
+struct BookingCheck : Observer {
+  std::optional<InterfaceState> last;
+  double worst_path = 0.0, worst_work = 0.0, worst_sum = 0.0, max_U = 0.0, total = 0.0;
+  long off_contact = 0, slip_steps = 0;
+  void on_step(const StepRecord& r, const InterfaceState& s, const Model& m) override {
+    const Field g = m.scenario.material.mu * s.pressure;
+    max_U = std::max(max_U, std::abs(r.Ux));
+    const double h2 = m.scenario.grid.cell_area();
+    total = s.dissipation.sum() * h2;
+    worst_sum = std::max(worst_sum, std::abs(total - r.dissipation));
+    if (last) book(s, g);
+    last = s;
+  }
+  void book(const InterfaceState& s, const Field& g) {
+    const double dU = s.shift.x() - last->shift.x();
+    for (Eigen::Index k = 0; k < g.size(); ++k) {
+      if (!(g(k) > 0.0)) {
+        off_contact += s.state(k) != std::uint8_t(NodeState::open) || s.slip[0](k) != 0.0 ||
+                       s.slip_path(k) != 0.0 || s.dissipation(k) != 0.0;
+        continue;
+      }
+      const bool slipping = s.state(k) == std::uint8_t(NodeState::slip);
+      slip_steps += slipping;
+      const double len =
+          slipping ? std::abs(dU - (s.displacement[0](k) - last->displacement[0](k))) : 0.0;
+      worst_path = std::max(worst_path, std::abs(s.slip_path(k) - last->slip_path(k) - len));
+      worst_work =
+          std::max(worst_work, std::abs(s.dissipation(k) - last->dissipation(k) - g(k) * len));
+    }
+  }
+};
+
+TEST(Stepper, FixedContactBooksTheContactNodes) {
+  const BookingCheck c =
+      fretbem_test::run_recorded<BookingCheck>(sphere_scenario(32, sine_load(0.6, 2, 16)));
+  EXPECT_GT(c.slip_steps, 0);
+  EXPECT_EQ(c.off_contact, 0);
+  const double gmax = 0.5 * 1.5 * hertz_force(1.0 / (1 - 0.09)) / (M_PI * 0.25 * 0.25);
+  EXPECT_LE(c.worst_path, 1e-12 * c.max_U);
+  EXPECT_LE(c.worst_work, 1e-12 * c.max_U * gmax);
+  EXPECT_LE(c.worst_sum, 1e-12 * c.total);
 }
 
 // The image's table is in the checkpoint: stopped on the first unloading branch (step 7 of a

@@ -211,6 +211,52 @@ TEST(Incremental, FixedContactSkipsTheVerifyingProduct) {
   EXPECT_TRUE(u_fixed[0].allFinite());
 }
 
+// One solver keeps what its increments need of the bound (contact nodes, sum g, |C g|) while
+// the bound holds: across bounds that change their values only (0.9 g), their contact nodes (a
+// shallower indentation) and back, every increment is bit for bit the one a fresh solver gives.
+// Force control at 0.4 mu F_z of each bound from the unloaded state.
+TEST(Incremental, KeptBoundFollowsTheBound) {
+  Hertz h(32);
+  Field p_shallow;
+  h.ns->solve_indentation(h.z, 0.5 * h.d, p_shallow);
+  const Field scaled = 0.9 * h.bound, shallow = h.mu * p_shallow;
+  ASSERT_LT((shallow > 0.0).count(), (h.bound > 0.0).count());
+  TangentialOperator op(*h.hs, Vec2(1, 0));
+  ProjectedCgSolver kept(op, {1e-10, 5000});
+  for (const Field* g : std::vector<const Field*>{&h.bound, &scaled, &shallow, &h.bound}) {
+    ProjectedCgSolver fresh(op, {1e-10, 5000});
+    const Eigen::VectorXd F = vec(0.4 * g->sum() * h.grid.cell_area());
+    VecField ta = op.zeros(), ua = op.zeros(), tb = op.zeros(), ub = op.zeros();
+    const TangentialResult a = step(kept, *g, TangentialControl::force, F, ta, ua);
+    const TangentialResult b = step(fresh, *g, TangentialControl::force, F, tb, ub);
+    ASSERT_GT(b.iterations, 2);
+    EXPECT_EQ(a.iterations, b.iterations);
+    EXPECT_EQ(a.residual, b.residual);
+    EXPECT_TRUE((ta[0] == tb[0]).all());
+  }
+}
+
+// The classification on a list of nodes gives those nodes the states of the whole-grid one and
+// leaves the others as they were (random tractions, bounds with open nodes, step slips).
+TEST(InterfaceStateClassify, ListedNodesAsOnTheWholeGrid) {
+  Hertz h(16);
+  TangentialOperator op(*h.hs);
+  InterfaceState whole = InterfaceState::zeros(op);
+  const Field bound = Field::Random(16, 16).max(0.0), slip = Field::Random(16, 16).abs();
+  whole.traction = {Field::Random(16, 16), Field::Random(16, 16)};
+  whole.traction[0](3) = bound(3);  // on the bound
+  whole.classify(bound, 1e-10, slip, 0.5);
+  InterfaceState listed = whole;
+  listed.state.setConstant(std::uint8_t(NodeState::open));
+  std::vector<Eigen::Index> nodes;
+  for (Eigen::Index k = 0; k < bound.size(); ++k)
+    if (bound(k) > 0.0) nodes.push_back(k);
+  listed.classify(bound, 1e-10, slip, 0.5, nodes);
+  EXPECT_TRUE((listed.state == whole.state).all());
+  EXPECT_GT((whole.state == std::uint8_t(NodeState::slip)).count(), 0);
+  EXPECT_GT((whole.state == std::uint8_t(NodeState::stick)).count(), 0);
+}
+
 // Loading along y or at 30 degrees (two-component analogy operator) gives the rotated
 // x solution.
 TEST(Incremental, RotatedLoadingGivesRotatedSolution) {

@@ -42,8 +42,15 @@ void Workspace::restore_force(VecField& tau, VecField& u) {
     return;
   }
   if (comm().any(stick_image.stick != sets.stick)) update_stick_image();
-  // Full field (one cheap pass): the partition solver returns this u as C tau everywhere.
-  for (std::size_t c = 0; c < u.size(); ++c) u[c] += fs.lambda(c) * stick_image.image;
+  // The partition solver returns this u as C tau everywhere (a pass of the grid); the projected
+  // solver reads u on the contact nodes only, and its verifying product, when it makes one,
+  // sets u everywhere.
+  if (!u_on_contact_only) {
+    for (std::size_t c = 0; c < u.size(); ++c) u[c] += fs.lambda(c) * stick_image.image;
+    return;
+  }
+  for (std::size_t c = 0; c < u.size(); ++c)
+    for (const Eigen::Index k : sets.contact) u[c](k) += fs.lambda(c) * stick_image.image(k);
 }
 
 void Workspace::update_stick_image() {

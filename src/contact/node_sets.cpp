@@ -44,7 +44,12 @@ Eigen::VectorXd shift_estimate(const TangentialIncrement& inc, const VecField& u
 bool past_full_sliding(const TangentialIncrement& inc, const Grid& grid, double tolerance,
                        const Communicator& comm) {
   if (inc.control != TangentialControl::force) return false;
-  return !(inc.target.norm() < bound_force(*inc.bound, grid, comm) * (1.0 - tolerance));
+  return past_full_sliding(inc, bound_force(*inc.bound, grid, comm), tolerance);
+}
+
+bool past_full_sliding(const TangentialIncrement& inc, double bound_force, double tolerance) {
+  return inc.control == TangentialControl::force &&
+         !(inc.target.norm() < bound_force * (1.0 - tolerance));
 }
 
 // Squared magnitudes compared, the root taken only on nodes that move: a magnitude field of
@@ -149,19 +154,30 @@ double residual(NodeSets& sets, const TangentialIncrement& inc, const VecField& 
   });
 }
 
-double ScaleCache::get(TangentialOperator& op, const Field& g) {
+NodeSets::NodeSets(const BoundCache& bound, const Communicator& comm_)
+    : comm(&comm_),
+      contact(bound.contact()),
+      stick(contact.size(), 0),
+      ncontact(bound.ncontact()) {}
+
+const BoundCache& BoundCache::update(TangentialOperator& op, const Field& g) {
   const Communicator& comm = op.half_space().communicator();
   // The cached bound must match on every rank: the product below is collective.
-  if (comm.min(g_.size() == g.size() && (g_ == g).all() ? 1.0 : 0.0) > 0.0) return scale_;
+  if (comm.min(same_bits(g_, g) ? 1.0 : 0.0) > 0.0) return *this;
   g_ = g;
+  contact_.clear();
+  for (Eigen::Index k = 0; k < g.size(); ++k)
+    if (g(k) > 0.0) contact_.push_back(k);
+  ncontact_ = std::int64_t(comm.sum(double(contact_.size())));
+  gsum_ = comm.sum(g.sum());
   VecField load = op.zeros(), u;
   load[0] = g;
   op.apply(load, u);
-  const Field contact = (g > 0.0).cast<double>();
-  const double n = comm.sum(contact.sum());
-  scale_ = n > 0 ? std::sqrt(comm.sum((contact * u[0].square()).sum()) / n) : 1.0;
+  const Field on_contact = (g > 0.0).cast<double>();
+  const double n = comm.sum(on_contact.sum());
+  scale_ = n > 0 ? std::sqrt(comm.sum((on_contact * u[0].square()).sum()) / n) : 1.0;
   if (!(scale_ > 0.0)) scale_ = 1.0;
-  return scale_;
+  return *this;
 }
 
 }  // namespace fretbem::tangential_detail

@@ -127,7 +127,7 @@ int repartition(Workspace& w, Field& stick, VecField& tau, VecField& u) {
 }  // namespace
 
 PartitionSolver::PartitionSolver(TangentialOperator& op, TangentialOptions opt)
-    : op_(op), opt_(opt), cache_(std::make_unique<ScaleCache>()) {
+    : op_(op), opt_(opt), cache_(std::make_unique<BoundCache>()) {
   op_.half_space().require_tolerance(opt_.tolerance, "tangential solver");
 }
 

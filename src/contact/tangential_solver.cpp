@@ -28,7 +28,7 @@ ProjectedCgSolver::ProjectedCgSolver(TangentialOperator& op, TangentialOptions o
     : op_(op),
       opt_(opt),
       preconditioning_(opt.precondition),
-      cache_(std::make_unique<ScaleCache>()) {
+      cache_(std::make_unique<BoundCache>()) {
   op_.half_space().require_tolerance(opt_.tolerance, "tangential solver");
 }
 
@@ -341,6 +341,7 @@ template <int NC>
 TangentialResult ProjectedCgSolver::solve_components(const TangentialIncrement& inc, VecField& tau,
                                                      VecField& u) {
   Workspace w(op_, inc, opt_, *cache_);
+  w.u_on_contact_only = true;
   w.start(tau, u);
   const bool pre = precondition_increment(preconditioning_, op_, w.sets.contact, *inc.bound);
   Iteration<NC> iteration(*this, w, pre, tau, u);

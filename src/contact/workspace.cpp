@@ -7,20 +7,21 @@
 namespace fretbem::tangential_detail {
 
 Workspace::Workspace(TangentialOperator& op_, const TangentialIncrement& inc_,
-                     TangentialOptions opt_, ScaleCache& cache)
-    : op(op_), inc(inc_), opt(opt_), sets(*inc_.bound, op_.half_space().communicator()) {
-  conv0 = op.half_space().convolutions();
-  scale = cache.get(op, *inc.bound);
-  if (past_full_sliding(inc, op.grid(), opt.tolerance, comm())) {
-    const double fmax = bound_force(*inc.bound, op.grid(), comm());
-    {
-      std::ostringstream msg;
-      msg << "tangential force " << inc.target.norm() << " N is not below the full-sliding force "
-          << "mu F_z = " << fmax << " N: force control cannot go past full sliding";
-      throw SolverError(msg.str());
-    }
+                     TangentialOptions opt_, BoundCache& cache)
+    : op(op_),
+      inc(inc_),
+      opt(opt_),
+      conv0(op_.half_space().convolutions()),
+      sets(cache.update(op_, *inc_.bound), op_.half_space().communicator()) {
+  scale = cache.scale();
+  gsum = cache.gsum();
+  const double fmax = gsum * op.grid().cell_area();
+  if (past_full_sliding(inc, fmax, opt.tolerance)) {
+    std::ostringstream msg;
+    msg << "tangential force " << inc.target.norm() << " N is not below the full-sliding force "
+        << "mu F_z = " << fmax << " N: force control cannot go past full sliding";
+    throw SolverError(msg.str());
   }
-  gsum = comm().sum(inc.bound->sum());
   slip.val.resize(op.components());
   slip.back_val.resize(op.components());
 }
@@ -30,8 +31,6 @@ Workspace::Workspace(TangentialOperator& op_, const TangentialIncrement& inc_,
 // steady cycle the predictor's guess is of this kind at every step (3 products per step
 // otherwise, 1 with this).
 void Workspace::start(VecField& tau, VecField& u) {
-  const bool moved = project_all(*inc.bound, tau, comm());
-  if (moved || u.size() != tau.size()) op.apply(tau, u), exact = true;
   VecField tg, ug;
   const bool guess = inc.guess && feasible_guess(tg, ug);
   double stick_slip2 = 0.0;
@@ -45,6 +44,9 @@ void Workspace::start(VecField& tau, VecField& u) {
     tau = std::move(tg), u = std::move(ug), exact = true;
     return;
   }
+  // The warm start is made feasible only when no guess replaced it (a pass of the grid).
+  const bool moved = project_all(*inc.bound, tau, comm());
+  if (moved || u.size() != tau.size()) op.apply(tau, u), exact = true;
   if (inc.control == TangentialControl::force) start_force(tau, u);
   if (guess && energy(tg, ug) < energy(tau, u))
     tau = std::move(tg), u = std::move(ug), exact = true;

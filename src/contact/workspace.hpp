@@ -44,7 +44,7 @@ struct SlipStepBuffers {
 /// slip-node step, the final report.
 struct Workspace {
   Workspace(TangentialOperator& op, const TangentialIncrement& inc, TangentialOptions opt,
-            ScaleCache& cache);
+            BoundCache& cache);
   /// Makes the warm start feasible (and of the right force under force control), with u = C tau;
   /// takes inc.guess instead when it solves the increment within the tolerance or its QP
   /// energy is lower.
@@ -80,12 +80,15 @@ struct Workspace {
   TangentialOperator& op;
   const TangentialIncrement& inc;
   TangentialOptions opt;
+  std::int64_t conv0 = 0;  ///< the operator's convolutions before the increment
   NodeSets sets;
   double scale = 1.0, gsum = 0.0;  ///< |C g| and sum g (Pa * cells)
   StickImage stick_image;
   SlipStepBuffers slip;
-  std::int64_t conv0 = 0;
   bool exact = false;  ///< u was set to C tau by one product at the start (no drift yet)
+  /// The algorithm reads u on the contact nodes only until its last product (the projected
+  /// one): restore_force then updates u there only.
+  bool u_on_contact_only = false;
   /// The residual and stick-node slip sum start() computed for the start it took (a guess that
   /// met the tolerance), with `sets` and result.shift still those of that start; the solver's
   /// first residual reads it instead of computing it again. Empty otherwise.

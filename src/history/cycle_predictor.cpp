@@ -93,7 +93,11 @@ const VecField* CyclePredictor::find(const LoadStep& prev, const LoadStep& cur, 
                                      Eigen::Index ny) {
   for (const Entry& e : entries_) {
     if (!same_transition(e.prev, e.cur, prev, cur)) continue;
-    guess_.assign(e.values.size(), Field::Zero(nx, ny));
+    const bool same_nodes = guess_nodes_ == e.nodes && !guess_.empty() &&
+                            guess_.size() == e.values.size() && guess_[0].rows() == nx &&
+                            guess_[0].cols() == ny;
+    if (!same_nodes) guess_.assign(e.values.size(), Field::Zero(nx, ny));
+    guess_nodes_ = e.nodes;
     for (std::size_t c = 0; c < e.values.size(); ++c)
       for (std::size_t j = 0; j < e.nodes->size(); ++j) guess_[c]((*e.nodes)[j]) = e.values[c][j];
     return &guess_;

@@ -25,19 +25,30 @@ constexpr double kFloorRatio = 0.9;
 
 }  // namespace
 
-// Slip increment s = dU - (u - u0) per node and its length (work_.slip).
-void Stepper::step_slip_vectors(const VecField& u0, const Eigen::VectorXd& dU, VecField& s) {
+// Slip increment s = dU - (u - u0) per node and its length (work_.slip); with `nodes` on those
+// only (a contact that does not change: s elsewhere is left unset, work_.slip zero there).
+void Stepper::step_slip_vectors(const VecField& u0, const Eigen::VectorXd& dU, VecField& s,
+                                const std::vector<Eigen::Index>* nodes) {
   const int nc = int(state_.traction.size());
   s.assign(nc, Field(bound_.rows(), bound_.cols()));
-  work_.slip.resize(bound_.rows(), bound_.cols());
-  for (Eigen::Index k = 0; k < bound_.size(); ++k) {
+  auto slip_at = [&](Eigen::Index k) {
     double len2 = 0.0;
     for (int c = 0; c < nc; ++c) {
       const double sc = dU(c) - (state_.displacement[c](k) - u0[c](k));
       s[c](k) = sc, len2 += sc * sc;
     }
     work_.slip(k) = len2;
+  };
+  if (nodes) {
+    if (!slip_zero_off_contact_) work_.slip = Field::Zero(bound_.rows(), bound_.cols());
+    slip_zero_off_contact_ = true;
+    for (const Eigen::Index k : *nodes) slip_at(k);
+    for (const Eigen::Index k : *nodes) work_.slip(k) = std::sqrt(work_.slip(k));
+    return;
   }
+  slip_zero_off_contact_ = false;
+  work_.slip.resize(bound_.rows(), bound_.cols());
+  for (Eigen::Index k = 0; k < bound_.size(); ++k) slip_at(k);
   // The roots in one vectorised pass: a root per cell inside the loop above stalled it (a third
   // of the function's time in a steady n = 256 cycle, perf annotate).
   work_.slip = work_.slip.sqrt();

@@ -7,12 +7,15 @@
 // Masing image starting its opening quarter), the convolutions it used, and the CPU time in units
 // of one bare convolution of the same padded size measured in the same run (machine-independent),
 // and per convolution the solvers performed (the overhead of their element-wise passes).
-// FFT plans as `fretbem run` makes them (MEASURE with wisdom), one thread.
+// FFT plans as `fretbem run` makes them (MEASURE with wisdom), one thread, and the allocator
+// kept from returning freed memory to the kernel as `fretbem run` keeps it (keep_freed_memory).
 //
 // The unit (bare_convolution.hpp) is sampled before every timed cycle and after the last; each
 // row uses the median of its own samples and reports their spread (min-max over median).
 //
-// Usage: bench_cycle [--max-n N] [--repeats R] [--min-n N]
+// Usage: bench_cycle [--max-n N] [--repeats R] [--min-n N] [--headline 1] [--cycles C]
+// (--headline 1: only the headline configuration, stiffness = turning with the predictor;
+// --cycles C: cycles of the rows with the predictor, 3 unless given, for profiling steady ones.)
 #include <algorithm>
 #include <cstdio>
 #include <ctime>
@@ -22,6 +25,7 @@
 
 #include "bare_convolution.hpp"
 #include "bench_util.hpp"
+#include "fretbem/core/resources.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/history/stepper.hpp"
 
@@ -65,19 +69,25 @@ std::vector<CycleCost> all_cycles(int n, const char* stiffness, const char* pred
   return out;
 }
 
-int max_n = 512, min_n = 128, repeats = 3;
+int max_n = 512, min_n = 128, repeats = 3, headline = 0, predicted_cycles = 3;
 
 void usage(int code) {
-  bench::exit_with_usage(code, "usage: bench_cycle [--min-n N] [--max-n N] [--repeats R]\n");
+  bench::exit_with_usage(
+      code,
+      "usage: bench_cycle [--min-n N] [--max-n N] [--repeats R] [--headline 0|1] [--cycles C]\n");
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  bench::parse_int_options(
-      argc, argv,
-      {{"--max-n", &max_n, 8, 4096}, {"--min-n", &min_n, 8, 4096}, {"--repeats", &repeats, 1, 100}},
-      usage);
+  keep_freed_memory();  // as fretbem's main: the cycles reuse freed grid-sized buffers
+  bench::parse_int_options(argc, argv,
+                           {{"--max-n", &max_n, 8, 4096},
+                            {"--min-n", &min_n, 8, 4096},
+                            {"--repeats", &repeats, 1, 100},
+                            {"--headline", &headline, 0, 1},
+                            {"--cycles", &predicted_cycles, 2, 1000}},
+                           usage);
   std::printf("load average %.2f at start\n\n", bench::load_average());
   std::printf(
       "| n | stiffness | predictor | cycle | cycle wall (s) | cycle CPU (s) | convolutions / cycle "
@@ -88,8 +98,10 @@ int main(int argc, char** argv) {
     bench::BareConvolution unit(n, true);
     std::vector<double> all;
     for (const char* predictor : {"none", "cycle"}) {
-      const int cycles = predictor[0] == 'n' ? 2 : 3;
+      if (headline && predictor[0] == 'n') continue;
+      const int cycles = predictor[0] == 'n' ? 2 : predicted_cycles;
       for (const char* stiff : {"every", "turning", "none"}) {
+        if (headline && stiff[0] != 't') continue;
         std::vector<std::vector<double>> wall(cycles), cpu(cycles);
         std::vector<long> conv(cycles);
         for (int r = 0; r < repeats; ++r) {

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <span>
 
 #include "fretbem/contact/tangential_operator.hpp"
 
@@ -34,6 +35,10 @@ struct InterfaceState {
   /// stuck_at_bound where on the bound but not slipping; stick inside the bound.
   /// step_slip: |s| per node (m); an empty field means no slip this step.
   void classify(const Field& bound, double eps, const Field& step_slip, double slip_threshold);
+  /// The same on the listed nodes only (indices into the fields), for a bound whose contact
+  /// nodes are these and whose other nodes are open already (a contact that does not change).
+  void classify(const Field& bound, double eps, const Field& step_slip, double slip_threshold,
+                std::span<const Eigen::Index> nodes);
 };
 
 }  // namespace fretbem

@@ -18,7 +18,7 @@
 namespace fretbem {
 
 namespace tangential_detail {
-class ScaleCache;
+class BoundCache;
 }  // namespace tangential_detail
 
 enum class TangentialControl { displacement, force };
@@ -109,8 +109,8 @@ class ProjectedCgSolver final : public TangentialSolver {
   TangentialOptions opt_;
   PreconditionDecision preconditioning_;  // remembers the flood fill of the last contact set
   VecField d_, q_, r_, z_;  // direction, its image C d; preconditioner input S s, output
-  // Displacement scale |C g|, reused while the bound is unchanged.
-  std::unique_ptr<tangential_detail::ScaleCache> cache_;
+  // What the increments need of the bound (contact nodes, sum g, |C g|), kept while it holds.
+  std::unique_ptr<tangential_detail::BoundCache> cache_;
 };
 
 /// The paper's fixed-point partition iteration (Methods): fix the stick/slip partition, set
@@ -126,7 +126,7 @@ class PartitionSolver final : public TangentialSolver {
  private:
   TangentialOperator& op_;
   TangentialOptions opt_;
-  std::unique_ptr<tangential_detail::ScaleCache> cache_;
+  std::unique_ptr<tangential_detail::BoundCache> cache_;
 };
 
 /// Coulomb-law residual of a state (see TangentialResult::residual) and the slip increment s.

@@ -80,6 +80,9 @@ class CyclePredictor {
   std::deque<Entry> entries_;
   std::size_t stored_ = 0;  ///< doubles and indices held (a shared node list once)
   VecField guess_;
+  /// The node list whose values guess_ holds, zero elsewhere: a guess on the same list only
+  /// overwrites its values (the clear of the whole grid was a pass per step).
+  std::shared_ptr<const std::vector<Eigen::Index>> guess_nodes_;
   const Communicator* comm_ = &serial_communicator();
 };
 
