@@ -186,7 +186,15 @@ class StiffnessSolver::Iteration {
   double rr_ = 0.0, G_ = 0.0;
 };
 
-StiffnessResult StiffnessSolver::solve(const StateField& state) {
+// psi_ = start on the stick nodes (zero elsewhere and in the other component), u_ = C psi_.
+void StiffnessSolver::given_start(const std::vector<std::uint8_t>& stick, const Field& start) {
+  psi_ = op_.zeros(), u_ = op_.zeros();
+  for (const Eigen::Index k : nodes_) psi_[0](k) = start(k);
+  op_.apply(psi_, u_);
+  psi_set_ = stick;
+}
+
+StiffnessResult StiffnessSolver::solve(const StateField& state, const Field* start) {
   StiffnessResult res;
   std::vector<std::uint8_t> stick(std::size_t(state.size()));
   nodes_.clear();
@@ -202,13 +210,17 @@ StiffnessResult StiffnessSolver::solve(const StateField& state) {
   // k_x depends on the stick set alone: a set met recently (an unchanged step, the full
   // contact after a reversal) needs no new solve.
   const std::vector<std::uint64_t> bits = pack(stick);
+  const bool given = start && start->size() == state.size();
   for (const Known& kn : known_)
-    if (comm.min(kn.count == nstick && kn.stick == bits ? 1.0 : 0.0) > 0.0) {
+    if (!given && comm.min(kn.count == nstick && kn.stick == bits ? 1.0 : 0.0) > 0.0) {
       res.kx = kn.kx;
       res.reused = true;
       return res;
     }
-  warm_start(stick);
+  if (given)
+    given_start(stick, *start);
+  else
+    warm_start(stick);
   auto stick_set = [&] {
     Field set(state.rows(), state.cols());
     for (Eigen::Index k = 0; k < set.size(); ++k) set(k) = stick[std::size_t(k)];

@@ -35,11 +35,14 @@ class StiffnessSolver {
   /// it): the CG stops when J's estimated relative error is below 0.1 tolerance, or the
   /// residual below the tolerance, whichever comes first (about half the iterations of the
   /// residual test alone). Throws SolverError when neither is reached.
-  StiffnessResult solve(const StateField& state);
+  /// `start` (component 0, on the grid; ignored when empty): the CG's start instead, imaged by
+  /// one product; the result then depends on (state, start) alone: no reuse of a known set.
+  StiffnessResult solve(const StateField& state, const Field* start = nullptr);
 
  private:
   class Iteration;  // the CG problem of one solve (stiffness.cpp)
   void warm_start(const std::vector<std::uint8_t>& stick);
+  void given_start(const std::vector<std::uint8_t>& stick, const Field& start);
 
   TangentialOperator& op_;
   double tol_;
