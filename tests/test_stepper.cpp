@@ -704,6 +704,33 @@ TEST(Predictor, VaryingNormalLoadCostsNoMoreThanWithoutIt) {
   EXPECT_LE(conv_cycle, conv_none);
 }
 
+// The shortcut rows' k_x starts on the secant between the row and the one before it
+// (Stepper::secant_stiffness_start), both in the checkpoint: a Cattaneo ramp stopped after
+// step 5 and resumed gives the uninterrupted run's rows to the bit, k_x included.
+TEST(Resume, ShortcutKxStartIsCheckpointed) {
+  std::ostringstream ramp;
+  ramp << std::setprecision(17) << "normal_force = " << hertz_force(1.0 / (1 - 0.09))
+       << "\npath = ramp\ncontrol = displacement\ndisplacement_amplitude = "
+       << 0.9 * fretbem_test::unit_full_sliding_shift(0.5) << "\nsteps = 10";
+  const fs::path d =
+      scenario_file("resume_shortcut", sphere_scenario(48, ramp.str(), "monotone = shortcut\n"));
+  const std::string bin = FRETBEM_BINARY, ini = (d / "s.ini").string();
+  ASSERT_EQ(sh(bin + " run " + ini + " --quiet --out " + (d / "full").string()), 0);
+  ASSERT_EQ(sh(bin + " run " + ini + " --quiet --stop-after 5 --out " + (d / "part").string()), 0);
+  ASSERT_EQ(sh(bin + " run --quiet --resume " + (d / "part").string()), 0);
+  const auto full = read_csv(d / "full" / "timeseries.csv");
+  const auto part = read_csv(d / "part" / "timeseries.csv");
+  ASSERT_EQ(full.size(), 12u);
+  ASSERT_EQ(part.size(), 12u);
+  // The products differ: the resumed run images p and the slip threshold's C g once more.
+  for (std::size_t i = 1; i < full.size(); ++i)
+    for (std::size_t c = 0; c < full[0].size(); ++c)
+      if (full[0][c] != "convolutions") {
+        EXPECT_EQ(full[i][c], part[i][c]) << "row " << i << " column " << full[0][c];
+      }
+  fs::remove_all(d);
+}
+
 // An increment whose predictor already meets the solver's stopping rule costs the one product
 // that images it: under force control the starts it would be compared against (the stick
 // nodes shifted to the target force, and every contact node shifted: one product each) are

@@ -31,8 +31,11 @@ std::vector<std::uint64_t> pack(const std::vector<std::uint8_t>& flags) {
 // its error is the sum of the remaining increments (Hestenes-Stiefel; Strakos & Tichy, ETNA 13,
 // 2002). The remainder is extrapolated geometrically from the slowest of the last kWindow
 // increment ratios, so a plateau (ratio near 1) keeps the solve going; the solve stops when
-// that remainder is below kShare * tol of J. kShare: the shipped tolerances leave k_x within
-// 0.1 tol of a tight solve (tests/test_stiffness.cpp, StiffnessEnergyStop).
+// that remainder is below kShare * tol of J. kShare: the contract is k_x within tol of a tight
+// solve; at kShare = 0.3 the worst k_x of Stiffness.EnergyStopKeepsKxWithinTheTolerance is
+// 0.26 tol (sphere and rough sets, 1e-4 ... 1e-8, cold and warm starts); kShare = 0.1 gave
+// 0.066 tol for 2.4 % more products in six ensemble members (3499 against 3418). The ensemble's
+// kx_mean moves by 2.3e-5 between solver tolerances 1e-6 and 1e-9, far above either.
 class KxEstimate {
  public:
   explicit KxEstimate(double tol) : tol_(tol) {}
@@ -57,7 +60,7 @@ class KxEstimate {
 
  private:
   static constexpr int kWindow = 4;
-  static constexpr double kShare = 0.1;
+  static constexpr double kShare = 0.3;
   double tol_, last_ = 0.0, prev_inc_ = 0.0;
   double ratios_[kWindow] = {};
   int count_ = 0;
@@ -186,7 +189,15 @@ class StiffnessSolver::Iteration {
   double rr_ = 0.0, G_ = 0.0;
 };
 
-StiffnessResult StiffnessSolver::solve(const StateField& state) {
+// psi_ = start on the stick nodes (zero elsewhere and in the other component), u_ = C psi_.
+void StiffnessSolver::given_start(const std::vector<std::uint8_t>& stick, const Field& start) {
+  psi_ = op_.zeros(), u_ = op_.zeros();
+  for (const Eigen::Index k : nodes_) psi_[0](k) = start(k);
+  op_.apply(psi_, u_);
+  psi_set_ = stick;
+}
+
+StiffnessResult StiffnessSolver::solve(const StateField& state, const Field* start) {
   StiffnessResult res;
   std::vector<std::uint8_t> stick(std::size_t(state.size()));
   nodes_.clear();
@@ -202,13 +213,17 @@ StiffnessResult StiffnessSolver::solve(const StateField& state) {
   // k_x depends on the stick set alone: a set met recently (an unchanged step, the full
   // contact after a reversal) needs no new solve.
   const std::vector<std::uint64_t> bits = pack(stick);
+  const bool given = start && start->size() == state.size();
   for (const Known& kn : known_)
-    if (comm.min(kn.count == nstick && kn.stick == bits ? 1.0 : 0.0) > 0.0) {
+    if (!given && comm.min(kn.count == nstick && kn.stick == bits ? 1.0 : 0.0) > 0.0) {
       res.kx = kn.kx;
       res.reused = true;
       return res;
     }
-  warm_start(stick);
+  if (given)
+    given_start(stick, *start);
+  else
+    warm_start(stick);
   auto stick_set = [&] {
     Field set(state.rows(), state.cols());
     for (Eigen::Index k = 0; k < set.size(); ++k) set(k) = stick[std::size_t(k)];

@@ -168,7 +168,7 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
   measure_areas(state_, op, hs, rec);
   rec.kx = std::numeric_limits<double>::quiet_NaN();
   if (!substep_ && stiffness_wanted(model_, k, ls.turning))
-    rec.kx = model_.stiffness->solve(state_.state).kx;
+    rec.kx = model_.stiffness->solve(state_.state, shortcut_ ? &kx_start_ : nullptr).kx;
   rec.edge_load_share = model_.scenario.grid.periodic ? 0.0 : edge_load_share_;
   rec.dissipation = dissipation_;
   rec.wear_volume = wear_volume_;
@@ -416,6 +416,7 @@ void Stepper::shortcut_step(const LoadStep& ls, StepRecord& rec) {
   const double target = e.dot(ls.target * (ls.control == Control::force ? scale : 1.0));
   const double sign = target < 0.0 ? -1.0 : 1.0;
   NormalSolver& ns = model_.corrective ? *model_.corrective : *model_.normal;
+  const double U0 = std::abs(e.dot(state_.shift));
   const Field p_star0 = shortcut_start(rec.step);
   const ShortcutResult r =
       ls.control == Control::force
@@ -435,6 +436,21 @@ void Stepper::shortcut_step(const LoadStep& ls, StepRecord& rec) {
   rec.tangential_residual = r.corrective.residual;
   last_target_ = op.to_local(ls.target * (ls.control == Control::force ? scale : 1.0));
   accumulate_slip(u0, nullptr, dU, rec);  // constant normal load: the bound did not move
+  kx_start_ = secant_stiffness_start(shortcut_p_star_, U0);
+}
+
+// The k_x solve's start on a shortcut row: C psi = e_x on the stick set is, under the analogy
+// (C = (E*/G*) K), the corrective problem's K psi' = 1 on its contact set with
+// psi' = (E*/G*) psi, and dp*/d delta* solves that where the set holds. With
+// delta* = delta - U / (mu E*/G*) (eq. 19), psi = -mu dp*/dU, taken along the secant from the
+// row before (p*_1, U_1) to this one: exact while the stick set holds, and a function of the
+// checkpointed state alone, so a resumed run solves k_x from the start the uninterrupted did.
+Field Stepper::secant_stiffness_start(const Field& p_star_before, double U_before) const {
+  const double dU = std::abs(model_.tangential_operator->direction().dot(state_.shift)) - U_before;
+  if (p_star_before.size() != state_.pressure.size() || !(dU > 0.0)) return Field();
+  const double mu = model_.scenario.material.mu;
+  const Field p_star = (state_.pressure - state_.traction[0].abs() / mu).max(0.0);
+  return (mu / dU) * (p_star_before - p_star);
 }
 
 // Slip increment s = dU - (u - u0) per slip node (stick nodes do not slip: what the solver

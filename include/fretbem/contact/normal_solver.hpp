@@ -57,7 +57,6 @@ class NormalSolver {
 
   NormalResult solve(const Field& z, bool force_control, double target, Field& p);
   void initial_guess(bool force_control, double target, Field& p) const;
-  double gap_residual(bool force_control, double delta, const Field& p, double* delta_out);
 
   HalfSpace& hs_;
   NormalOptions opt_;

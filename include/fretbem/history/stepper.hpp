@@ -106,6 +106,7 @@ class Stepper {
   bool shortcut_applies(std::size_t k) const;
   void shortcut_step(const LoadStep& ls, StepRecord& rec);
   Field shortcut_start(int k);
+  Field secant_stiffness_start(const Field& p_star_before, double U_before) const;
   const Field& pressure_displacement();
   [[noreturn]] void fail(const StepRecord& rec, const SolverError& e, FailedSolve f) const;
   void accumulate_slip(const VecField& u0, const VecField* tau0, const Eigen::VectorXd& dU,
@@ -169,6 +170,9 @@ class Stepper {
   /// p* (Pa) of the row before the last on the shortcut's segment: the secant start's second
   /// point (checkpointed; empty off the segment).
   Field shortcut_p_star_;
+  /// The shortcut row's secant tangent -dp*/dU (Pa/m, times mu): the k_x solve's start, from
+  /// the row and the one before it (both in the checkpoint); empty off the shortcut's rows.
+  Field kx_start_;
   /// Coupling::coupled: tangential displacement (m) of the pressure at the end of the last
   /// step (the start of this one); empty until first needed (and after a restore).
   VecField pressure_slip_;
