@@ -291,6 +291,57 @@ TEST(ContactLoss, WorkIsTheBoundAlongTheSlipBeforeTheNodeOpened) {
   EXPECT_DOUBLE_EQ(out.work(0), 0.5 * g0 * (f + c_tt * g0));
 }
 
+// The three-point rule (step_work.hpp, start.before): a node slipping through two steps of
+// unequal spans h0, h1 with its bound quadratic and its slip rate linear in time; the work of
+// the second step is exact (against the antiderivative of g times the rate), where the
+// trapezoid alone is not. The pressure along the slip takes the same weights, so with the
+// bound mu p Archard's k p |s| is (k / mu) x the work to round-off. A node that did not slip
+// through the step before (its slip there 0) keeps the trapezoid.
+TEST(ThreePointRule, ExactForAQuadraticBoundAndLinearSlipRateAcrossUnequalSteps) {
+  const double mu = 0.4;
+  const double a = 3.0, b = -1.7, c = 2.3;  // g(t) = a + b t + c t^2 (Pa)
+  const double d = 0.8, e = -0.45;          // slip rate d + e t (m per unit time)
+  auto g = [&](double t) { return a + t * (b + c * t); };
+  auto slip = [&](double t0, double t1) { return d * (t1 - t0) + 0.5 * e * (t1 * t1 - t0 * t0); };
+  auto work = [&](double t0, double t1) {
+    auto F = [&](double t) {
+      return a * d * t + (a * e + b * d) * t * t / 2 + (b * e + c * d) * t * t * t / 3 +
+             c * e * t * t * t * t / 4;
+    };
+    return F(t1) - F(t0);
+  };
+  const auto slipping = std::uint8_t(NodeState::slip);
+  for (const auto& [h0, h1] : {std::pair{0.1, 0.1}, std::pair{0.1, 0.025}, std::pair{0.03, 0.2}}) {
+    const double t0 = 0.4, t1 = t0 + h0, t2 = t1 + h1;
+    InterfaceState end;
+    end.pressure = Field::Constant(1, 1, g(t2) / mu);
+    end.state = StateField::Constant(1, 1, slipping);
+    const Field g1 = Field::Constant(1, 1, g(t2)), g0 = Field::Constant(1, 1, g(t1));
+    const Field p0 = g0 / mu;
+    const StateField before = StateField::Constant(1, 1, slipping);
+    const VecField tau0{g0};
+    const VecField s{Field::Constant(1, 1, slip(t1, t2))};
+    const Field dg0 = Field::Constant(1, 1, g(t1) - g(t0)), dp0 = dg0 / mu;
+    const Field s0 = Field::Constant(1, 1, slip(t0, t1));
+    const StepBefore prior{dg0, dp0, s0, h0, h1};
+    StepStart start{g0, p0, before, tau0};
+    start.before = &prior;
+    StepWork out;
+    out.slip = s[0].abs();
+    step_work(&start, end, g1, s, out);
+    const double exact = work(t1, t2);
+    EXPECT_NEAR(out.work(0), exact, 1e-13 * exact) << h0 << " " << h1;
+    EXPECT_NEAR(mu * out.pressure(0) * out.slip(0), out.work(0), 1e-15 * exact);
+    const double trapezoid = 0.5 * (g(t1) + g(t2)) * slip(t1, t2);
+    EXPECT_GT(std::abs(trapezoid - exact), 1e-6 * exact);  // the trapezoid is not exact
+    const Field none = Field::Zero(1, 1);
+    const StepBefore not_through{dg0, dp0, none, h0, h1};
+    start.before = &not_through;
+    step_work(&start, end, g1, s, out);
+    EXPECT_DOUBLE_EQ(out.work(0), trapezoid);
+  }
+}
+
 namespace {
 
 // F_x ramped to 0.6 mu P at F_z = P, then F_z lowered to 0.7 P in `rows` rows at that F_x,

@@ -18,10 +18,12 @@
 #include <algorithm>
 #include <cmath>
 #include <csignal>
+#include <fstream>
 #include <map>
 
 #include "support/child_process.hpp"
 #include "support/csv_text.hpp"
+#include "support/varying_normal_table.hpp"
 #include "sweep_test_util.hpp"
 
 using namespace sweep_test;
@@ -281,6 +283,30 @@ TEST(RunMpi, ResumeOnRanksEqualsUninterruptedRun) {
         d, small_mindlin() + " --stop-after 13", stopped_on, resumed_on,
         "stopped" + std::to_string(stopped_on) + "_resumed" + std::to_string(resumed_on));
   }
+}
+
+// load.interpolation = cubic on a table whose normal load varies (20 rows a period of the
+// sampled sine, two periods, F_z about 10 N on a steel sphere at n = 32): the three-point rule's
+// memory of the step before is per node, split in slabs like every field, and in the
+// checkpoint. Two ranks equal the serial run; stopped and resumed on two ranks, the
+// uninterrupted serial one.
+TEST(RunMpi, CubicTableOnTwoRanksEqualsSerialAndResumes) {
+  const fs::path d = scratch("run_mpi_cubic");
+  const fs::path table = d / "table.csv";
+  fretbem_test::write_sine_normal_table(table, 20, 10.0, 0.5, 2);
+  std::ofstream(d / "cubic.ini")
+      << "[material]\nE = 210e9\nnu = 0.3\nmu = 0.5\n[grid]\nn = 32\nlength = 2.8e-4\n"
+         "[surface]\ntype = sphere\nradius = 0.01\n[load]\npath = table\ntable = "
+      << table.string()
+      << "\ninterpolation = cubic\n[solver]\ntolerance = 1e-12\n"
+         "[output]\nfields = traction_x,dissipation\n";
+  const std::string args = (d / "cubic.ini").string();
+  const Result s = run(0, args, d, "serial");
+  ASSERT_EQ(s.status, 0) << s.err;
+  const Result m = run(2, args, d, "mpi");
+  ASSERT_EQ(m.status, 0) << m.err;
+  expect_same_run(d / "serial", d / "mpi");
+  stop_and_resume(d, args + " --stop-after 11", 2, 2, "stopped2_resumed2");
 }
 
 // Wear runs: cycles.csv, the wear snapshots and final fields of result.h5 too.

@@ -8,10 +8,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <sstream>
 
+#include "fretbem/core/errors.hpp"
+#include "fretbem/history/load_spline.hpp"
+#include "fretbem/history/step_control.hpp"
 #include "fretbem/run/run.hpp"
+#include "fretbem/scenario/ignored_keys.hpp"
 #include "fretbem/scenario/scenario.hpp"
 #include "support/csv_text.hpp"
 #include "support/hertz.hpp"
@@ -61,8 +66,8 @@ double second_period_dissipation(int rows, int split, const std::string& extra_l
 }  // namespace
 
 TEST(StepControl, InterpolatesTheLoadLinearlyBetweenRows) {
-  const LoadStep a{1.0, 1, {true, 10.0}, Control::force, {2.0, 0.0}, false, false};
-  const LoadStep b{1.5, 1, {true, 14.0}, Control::force, {-2.0, 1.0}, false, true};
+  const LoadStep a{1.0, 1, {true, 10.0}, Control::force, {2.0, 0.0}, false, false, {}};
+  const LoadStep b{1.5, 1, {true, 14.0}, Control::force, {-2.0, 1.0}, false, true, {}};
   const LoadStep m = interpolate_load(a, b, 0.25);
   EXPECT_DOUBLE_EQ(m.time, 1.125);
   EXPECT_DOUBLE_EQ(m.normal.value, 11.0);
@@ -75,6 +80,244 @@ TEST(StepControl, InterpolatesTheLoadLinearlyBetweenRows) {
   EXPECT_FALSE(bound_moves_within(a, c));  // constant normal load
   c.normal = {false, 14.0};
   EXPECT_FALSE(bound_moves_within(a, c));  // force then indentation: no common line
+}
+
+// The not-a-knot spline reproduces a cubic: its slopes at unequal knots are the cubic's
+// derivative, and the Hermite form within an interval is the cubic itself (round-off of the
+// tridiagonal solve, values of order 10).
+TEST(LoadInterpolation, SplineReproducesACubicExactly) {
+  auto f = [](double t) { return 1.5 - 2.0 * t + 0.7 * t * t - 0.9 * t * t * t; };
+  auto df = [](double t) { return -2.0 + 1.4 * t - 2.7 * t * t; };
+  const std::vector<double> t{-0.3, 0.1, 0.25, 0.9, 1.0, 1.6, 2.05};
+  std::vector<double> y;
+  for (double x : t) y.push_back(f(x));
+  const std::vector<double> m = not_a_knot_slopes(t, y);
+  for (std::size_t k = 0; k < t.size(); ++k) EXPECT_NEAR(m[k], df(t[k]), 1e-12) << k;
+  for (std::size_t k = 0; k + 1 < t.size(); ++k)
+    for (double theta : {0.2, 0.5, 0.85}) {
+      const double h = t[k + 1] - t[k], x = t[k] + theta * h;
+      EXPECT_NEAR(hermite(y[k], m[k], y[k + 1], m[k + 1], h, theta), f(x), 1e-12) << x;
+      EXPECT_NEAR(hermite_slope(y[k], m[k], y[k + 1], m[k + 1], h, theta), df(x), 1e-11) << x;
+    }
+  // Three knots: the parabola through them.
+  const std::vector<double> t3{0.0, 0.4, 1.0}, y3{1.0, 1.16, 2.0};  // 1 + t^2
+  const auto m3 = not_a_knot_slopes(t3, y3);
+  EXPECT_NEAR(m3[0], 0.0, 1e-14);
+  EXPECT_NEAR(m3[1], 0.8, 1e-14);
+  EXPECT_NEAR(m3[2], 2.0, 1e-14);
+}
+
+// A sine sampled at N rows a period over three periods: away from the ends the spline's error
+// is at most (5/384) h^4 max|f^(4)| (the complete cubic spline's bound, Hall and Meyer 1976;
+// the not-a-knot ends' influence decays by ~0.27 per interval); over the whole range it falls
+// at order 4 (16 per halving; 14 leaves room for the end intervals' larger constant).
+TEST(LoadInterpolation, SplineOfASineIsWithinItsFourthOrderBound) {
+  auto worst = [](int rows, bool interior) {
+    std::vector<double> t, y;
+    for (int k = 0; k <= 3 * rows; ++k) {
+      t.push_back(-0.25 + double(k) / rows);
+      y.push_back(std::sin(2 * M_PI * t.back()));
+    }
+    const std::vector<double> m = not_a_knot_slopes(t, y);
+    double err = 0.0;
+    for (std::size_t k = 0; k + 1 < t.size(); ++k) {
+      if (interior && (t[k] < 0.75 || t[k + 1] > 1.75)) continue;
+      for (int j = 1; j < 16; ++j) {
+        const double theta = j / 16.0, h = t[k + 1] - t[k];
+        const double s = hermite(y[k], m[k], y[k + 1], m[k + 1], h, theta);
+        err = std::max(err, std::abs(s - std::sin(2 * M_PI * (t[k] + theta * h))));
+      }
+    }
+    return err;
+  };
+  for (int rows : {16, 32, 64}) {
+    const double h = 1.0 / rows, bound = 5.0 / 384.0 * std::pow(h * 2 * M_PI, 4);
+    std::printf("%d rows a period: interior %.3e, whole %.3e, bound %.3e\n", rows,
+                worst(rows, true), worst(rows, false), bound);
+    EXPECT_LT(worst(rows, true), bound) << rows;
+  }
+  EXPECT_GT(worst(16, false) / worst(32, false), 14.0);
+  EXPECT_GT(worst(32, false) / worst(64, false), 14.0);
+}
+
+namespace {
+
+Scenario table_scenario(const fs::path& table, const std::string& extra_load) {
+  return parse_scenario(varying_scenario(table, extra_load), "spline.ini",
+                        fs::temp_directory_path());
+}
+
+}  // namespace
+
+// load.interpolation = cubic: the table's rows are the path's steps unchanged, each carrying
+// its spline slopes, and interpolate_load within a row follows the spline: on the sampled
+// sine of 32 rows a period within the fourth-order bound of F_z and F_x themselves, where the
+// line between the rows is off by the chord's sag ((2 pi h)^2 / 8 of the amplitude at a peak).
+TEST(LoadInterpolation, CubicTableFollowsTheSampledSineBetweenRows) {
+  const fs::path table = temp_path("cubic") += ".csv";
+  const double P = load_P();
+  fretbem_test::write_sine_normal_table(table, 32, P, kMu, 3);
+  const LoadPath linear = make_load_path(table_scenario(table, ""));
+  const LoadPath cubic = make_load_path(table_scenario(table, "interpolation = cubic\n"));
+  fs::remove(table);
+  ASSERT_EQ(linear.steps.size(), cubic.steps.size());
+  double worst_cubic = 0.0, worst_linear = 0.0;
+  for (std::size_t k = 0; k < cubic.steps.size(); ++k) {
+    EXPECT_EQ(cubic.steps[k].normal.value, linear.steps[k].normal.value);
+    EXPECT_EQ(cubic.steps[k].target, linear.steps[k].target);
+    EXPECT_EQ(cubic.steps[k].turning, linear.steps[k].turning);
+    EXPECT_FALSE(linear.steps[k].rate.has_value());
+    // Step 0 loads the normal force ahead of the first row's F_x: off the spline.
+    ASSERT_EQ(cubic.steps[k].rate.has_value(), k > 0) << k;
+    if (k < 2) continue;  // step 1 is row 0: F_x applied at t = 0, no span
+    const LoadStep m = interpolate_load(cubic.steps[k - 1], cubic.steps[k], 0.5);
+    const LoadStep l = interpolate_load(linear.steps[k - 1], linear.steps[k], 0.5);
+    EXPECT_FALSE(l.rate.has_value());
+    const double fz = P * (1 + 0.3 * std::sin(2 * M_PI * m.time));
+    worst_cubic = std::max(worst_cubic, std::abs(m.normal.value - fz) / (0.3 * P));
+    worst_linear = std::max(worst_linear, std::abs(l.normal.value - fz) / (0.3 * P));
+    const double fx = 0.5 * kMu * P * std::cos(2 * M_PI * m.time);
+    worst_cubic = std::max(worst_cubic, std::abs(m.target.x() - fx) / (0.5 * kMu * P));
+  }
+  const double h = 1.0 / 32;
+  std::printf("mid-row error of F_z, F_x: cubic %.3e, linear %.3e of the amplitude\n", worst_cubic,
+              worst_linear);
+  // Whole range, ends included: twice the interior bound (the test above: 32 rows a period).
+  EXPECT_LT(worst_cubic, 2 * 5.0 / 384.0 * std::pow(2 * M_PI * h, 4));
+  EXPECT_GT(worst_linear, 0.9 * std::pow(2 * M_PI * h, 2) / 8);
+}
+
+// Bad values: one line naming the key; a spline whose normal load dips to zero between rows
+// names the file and the rows; a path without a table says the key is not read.
+TEST(LoadInterpolation, BadValuesAndMeaninglessUsesAreNamed) {
+  const fs::path table = temp_path("dip") += ".csv";
+  {
+    std::ofstream out(table);
+    // The spline through F_z dips to -0.4 N near t = 2.44 (scipy's not-a-knot CubicSpline).
+    out << "time,Fz,Fx\n0,1,0\n1,1,0.1\n2,1,0.2\n2.2,0.05,0.2\n3,1,0.1\n4,1,0\n";
+  }
+  try {
+    table_scenario(table, "interpolation = quadratic\n");
+    ADD_FAILURE() << "accepted interpolation = quadratic";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("load.interpolation"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(make_load_path(table_scenario(table, "")));
+  try {
+    make_load_path(table_scenario(table, "interpolation = cubic\n"));
+    ADD_FAILURE() << "a spline below zero accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(table.string()), std::string::npos) << what;
+    EXPECT_NE(what.find("load.interpolation = cubic"), std::string::npos) << what;
+  }
+  fs::remove(table);
+  const Scenario sine = parse_scenario(
+      fretbem_test::unit_sphere_ini(16,
+                                    "normal_force = 1\npath = sine\namplitude = 0.5\n"
+                                    "interpolation = cubic\n",
+                                    ""),
+      "sine.ini", fs::temp_directory_path());
+  const auto warnings = ignored_key_warnings(sine);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("load.interpolation"), std::string::npos) << warnings[0];
+  // A wear run solves the table's rows and books the trapezoid: the key is said to be unread.
+  const fs::path rows = temp_path("wear_rows") += ".csv";
+  fretbem_test::write_sine_normal_table(rows, 8, load_P(), kMu, 1);
+  const Scenario wear =
+      parse_scenario(fretbem_test::unit_sphere_ini(
+                         16, "path = table\ntable = " + rows.string() + "\ninterpolation = cubic\n",
+                         "[wear]\nlaw = archard\ncoefficient = 1e-12\ncycles = 2\n"),
+                     "wear.ini", fs::temp_directory_path());
+  fs::remove(rows);
+  const auto said = ignored_key_warnings(wear);
+  ASSERT_EQ(said.size(), 1u);
+  EXPECT_NE(said[0].find("wear runs"), std::string::npos) << said[0];
+}
+
+namespace {
+
+// The table of 16 rows a period of the sampled sine (second_period_dissipation) with every
+// interval split in `split` rows on its not-a-knot spline: the spline of the split table is
+// the same spline (the 16-row spline is a C2 cubic on the finer knots, not-a-knot at its
+// second and last but one), so every split is one smooth path in 16 split steps a period.
+// `interpolation`: the key's value, and any further [load] lines after it.
+double spline_path_dissipation(int split, const std::string& interpolation) {
+  const int rows = 16, periods = 2;
+  const double P = load_P();
+  std::vector<double> t, fz, fx;
+  for (int k = 0; k <= periods * rows; ++k) {
+    t.push_back(double(k) / rows);
+    fz.push_back(P * (1 + 0.3 * std::sin(2 * M_PI * t.back())));
+    fx.push_back(0.5 * kMu * P * std::cos(2 * M_PI * t.back()));
+  }
+  const auto mz = not_a_knot_slopes(t, fz), mx = not_a_knot_slopes(t, fx);
+  const fs::path table = temp_path("spline" + std::to_string(split) + "_" +
+                                   std::to_string(std::hash<std::string>{}(interpolation))) +=
+      ".csv";
+  {
+    std::ofstream out(table);
+    out << std::setprecision(17) << "time,Fz,Fx\n" << t[0] << "," << fz[0] << "," << fx[0] << "\n";
+    for (std::size_t k = 1; k < t.size(); ++k)
+      for (int j = 1; j <= split; ++j) {
+        const double w = double(j) / split, h = t[k] - t[k - 1];
+        out << (j == split ? t[k] : t[k - 1] + w * h) << ","
+            << (j == split ? fz[k] : hermite(fz[k - 1], mz[k - 1], fz[k], mz[k], h, w)) << ","
+            << (j == split ? fx[k] : hermite(fx[k - 1], mx[k - 1], fx[k], mx[k], h, w)) << "\n";
+      }
+  }
+  const auto r =
+      fretbem_test::run_steps(varying_scenario(table, "interpolation = " + interpolation + "\n"));
+  fs::remove(table);
+  return fretbem_test::cycle_energy(r, 1).nodal;
+}
+
+}  // namespace
+
+// Sub-steps follow the spline, not the lines between the rows: the 16 rows a period of the
+// sampled sine with load.tolerance = 1e-3, against the spline path's own step limit
+// (Richardson, order 2, from 8 and 16 steps a row on the spline, which agree to 1e-5). Under
+// cubic the sub-steps approach it (-2.1e-3 measured: the embedded estimate does not see the
+// error of the end states, so 1e-3 is not met here, docs/algorithms.md); under linear they
+// converge to the polygon's limit, which lies the polygon's sag away from it (-3.7e-2). One
+// solve a row is the same under both keys but for the work's quadrature: printed.
+TEST(LoadInterpolation, SubStepsFollowTheSplineNotTheLines) {
+  const double d8 = spline_path_dissipation(8, "cubic"), d16 = spline_path_dissipation(16, "cubic");
+  const double limit = d16 + (d16 - d8) / 3.0;
+  const double cubic = spline_path_dissipation(1, "cubic\ntolerance = 1e-3") / limit - 1;
+  const double linear = spline_path_dissipation(1, "linear\ntolerance = 1e-3") / limit - 1;
+  std::printf(
+      "spline path: 8 steps a row %.6e, 16 %.6e, limit %.6e J; load.tolerance = 1e-3: "
+      "cubic %+.3e, linear %+.3e; one solve a row: cubic %+.3e, linear %+.3e\n",
+      d8, d16, limit, cubic, linear, spline_path_dissipation(1, "cubic") / limit - 1,
+      spline_path_dissipation(1, "linear") / limit - 1);
+  ASSERT_LT(std::abs(d16 / d8 - 1), 1e-4);
+  EXPECT_LT(std::abs(cubic), 0.1 * std::abs(linear));
+  EXPECT_GT(std::abs(linear), 1e-2);
+}
+
+// Resumed mid-period under the spline, with and without error-controlled sub-steps: the
+// three-point rule's memory of the step before (step_before.cpp) is in the checkpoint, so the
+// rows are the uninterrupted run's byte for byte, but for `convolutions` (the cycle
+// predictor's warm starts are not all checkpointed).
+TEST(LoadInterpolation, ResumedCubicRunRepeatsTheUninterruptedOne) {
+  const fs::path table = temp_path("resume_cubic") += ".csv";
+  fretbem_test::write_sine_normal_table(table, 8, load_P(), kMu, 2);
+  for (const char* keys :
+       {"interpolation = cubic\n", "interpolation = cubic\ntolerance = 1e-3\n"}) {
+    const fs::path full = temp_path("cfull"), part = temp_path("cpart");
+    for (const auto& [dir, stop] : {std::pair{full, -1L}, std::pair{part, 5L}}) {
+      Scenario sc =
+          parse_scenario(varying_scenario(table, keys), "resume", fs::temp_directory_path());
+      set_output_dir(sc, dir);
+      ASSERT_EQ(run_scenario(sc, {.quiet = true, .stop_after = stop}), 0);
+    }
+    ASSERT_EQ(resume_run(part, {.quiet = true}), 0);
+    EXPECT_EQ(fretbem_test::differing_tables(full, part, "convolutions"), "") << keys;
+    fs::remove_all(full);
+    fs::remove_all(part);
+  }
+  fs::remove(table);
 }
 
 // The embedded estimate against the exact work: a bound quadratic and a slip rate linear in

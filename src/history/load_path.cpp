@@ -93,11 +93,11 @@ LoadPath make_load_path(const Scenario& sc) {
   LoadPath path;
   const NormalLoad normal = constant_normal(spec);
   const Vec2 e = direction_of(spec) * amplitude_of(spec);
-  path.steps.push_back({0.0, 0, normal, spec.control, Vec2::Zero(), true, false});
+  path.steps.push_back({0.0, 0, normal, spec.control, Vec2::Zero(), true, false, {}});
   if (spec.path == PathType::ramp) {
     for (int k = 1; k <= spec.steps; ++k) {
       const double t = double(k) / spec.steps;
-      path.steps.push_back({t, 0, normal, spec.control, t * e, true, k == spec.steps});
+      path.steps.push_back({t, 0, normal, spec.control, t * e, true, k == spec.steps, {}});
     }
   } else if (spec.path == PathType::sine) {
     const auto times = sine_times(spec.cycles, spec.steps_per_cycle);
@@ -106,8 +106,14 @@ LoadPath make_load_path(const Scenario& sc) {
       const double phase = std::fmod(t, 1.0);
       const bool turning = std::abs(phase - 0.25) < 1e-12 || std::abs(phase - 0.75) < 1e-12;
       const int cycle = cycle_of_time(t);
-      path.steps.push_back(
-          {t, cycle, normal, spec.control, std::sin(2 * std::numbers::pi * t) * e, true, turning});
+      path.steps.push_back({t,
+                            cycle,
+                            normal,
+                            spec.control,
+                            std::sin(2 * std::numbers::pi * t) * e,
+                            true,
+                            turning,
+                            {}});
     }
     path.steps.back().turning = true;
   }

@@ -7,6 +7,7 @@
 #include "fretbem/core/errors.hpp"
 #include "fretbem/core/format.hpp"
 #include "fretbem/history/load_path.hpp"
+#include "fretbem/history/load_spline.hpp"
 
 namespace fretbem {
 
@@ -61,6 +62,32 @@ void check_columns(const std::filesystem::path& file, const Columns& cols,
   if (force && disp) throw InputError(f + ": give forces (Fx, Fy) or shifts (Ux, Uy), not both");
 }
 
+// load.interpolation = cubic: each row's slopes of the spline through the rows, column by
+// column (normal load, target x, target y). The rows are the path's last steps; a step before
+// them (the normal loading ahead of a first row with a tangential load) stays off the spline.
+void set_spline_rates(const std::filesystem::path& file, const std::vector<double>& t,
+                      const std::vector<long>& lines, LoadPath& path) {
+  const std::size_t first = path.steps.size() - t.size();
+  std::vector<double> normal, x, y;
+  for (std::size_t k = first; k < path.steps.size(); ++k) {
+    normal.push_back(path.steps[k].normal.value);
+    x.push_back(path.steps[k].target.x());
+    y.push_back(path.steps[k].target.y());
+  }
+  const auto dn = not_a_knot_slopes(t, normal), dx = not_a_knot_slopes(t, x),
+             dy = not_a_knot_slopes(t, y);
+  for (std::size_t k = 0; k < t.size(); ++k)
+    path.steps[first + k].rate = PathRate{dn[k], Vec2(dx[k], dy[k])};
+  // The rows' normal loads are positive; the spline between them must stay so (sub-steps
+  // solve it), or the table asks for a load it does not hold.
+  for (std::size_t k = 0; k + 1 < t.size(); ++k)
+    if (!(hermite_minimum(normal[k], dn[k], normal[k + 1], dn[k + 1], t[k + 1] - t[k]) > 0.0))
+      throw InputError(file.string() + ":" + std::to_string(lines[k]) + "-" +
+                       std::to_string(lines[k + 1]) +
+                       ": load.interpolation = cubic: the spline through the normal load falls "
+                       "to zero or below between these rows; add rows there or use linear");
+}
+
 }  // namespace
 
 LoadPath read_load_table(const std::filesystem::path& file, const LoadSpec& spec, double) {
@@ -93,9 +120,9 @@ LoadPath read_load_table(const std::filesystem::path& file, const LoadSpec& spec
     // `cycle` is the integer part of time, as for a sine (0 on every row).
     if (k == 0)
       path.steps.push_back(
-          {t[0], cycle_of_time(t[0]), normal, control, Vec2::Zero(), false, false});
+          {t[0], cycle_of_time(t[0]), normal, control, Vec2::Zero(), false, false, {}});
     if (k == 0 && target.norm() == 0.0) continue;
-    path.steps.push_back({t[k], cycle_of_time(t[k]), normal, control, target, false, false});
+    path.steps.push_back({t[k], cycle_of_time(t[k]), normal, control, target, false, false, {}});
   }
   // Turning points: where the tangential motion reverses or the path ends.
   for (std::size_t k = 1; k + 1 < path.steps.size(); ++k) {
@@ -104,6 +131,7 @@ LoadPath read_load_table(const std::filesystem::path& file, const LoadSpec& spec
     path.steps[k].turning = a.dot(b) < 0.0;
   }
   if (path.steps.size() > 1) path.steps.back().turning = true;
+  if (spec.interpolation == LoadInterpolation::cubic) set_spline_rates(file, t, lines, path);
   return path;
 }
 

@@ -13,6 +13,7 @@
 
 #include "fretbem/core/format.hpp"
 #include "fretbem/core/input_warning.hpp"
+#include "fretbem/history/load_spline.hpp"
 #include "fretbem/history/stepper.hpp"
 
 namespace fretbem {
@@ -36,11 +37,28 @@ bool bound_moves_within(const LoadStep& a, const LoadStep& b) {
 
 LoadStep interpolate_load(const LoadStep& a, const LoadStep& b, double theta) {
   LoadStep s = b;
-  s.time = a.time + theta * (b.time - a.time);
+  const double span = b.time - a.time;
+  s.time = a.time + theta * span;
   s.cycle = cycle_of_time(s.time);
+  s.turning = false;
+  if (a.rate && b.rate) {  // on the table's spline
+    auto on_spline = [&](double y0, double m0, double y1, double m1) {
+      return hermite(y0, m0, y1, m1, span, theta);
+    };
+    s.normal.value = on_spline(a.normal.value, a.rate->normal, b.normal.value, b.rate->normal);
+    s.target = {on_spline(a.target.x(), a.rate->target.x(), b.target.x(), b.rate->target.x()),
+                on_spline(a.target.y(), a.rate->target.y(), b.target.y(), b.rate->target.y())};
+    auto slope = [&](double y0, double m0, double y1, double m1) {
+      return hermite_slope(y0, m0, y1, m1, span, theta);
+    };
+    s.rate = PathRate{slope(a.normal.value, a.rate->normal, b.normal.value, b.rate->normal),
+                      {slope(a.target.x(), a.rate->target.x(), b.target.x(), b.rate->target.x()),
+                       slope(a.target.y(), a.rate->target.y(), b.target.y(), b.rate->target.y())}};
+    return s;
+  }
+  s.rate.reset();
   s.normal.value = a.normal.value + theta * (b.normal.value - a.normal.value);
   s.target = a.target + theta * (b.target - a.target);
-  s.turning = false;
   return s;
 }
 

@@ -49,7 +49,7 @@ std::size_t Stepper::run(const std::vector<Observer*>& observers, std::size_t ma
 }
 
 StepperMemory Stepper::memory() const {
-  StepperMemory m{next_, last_normal_, last_target_, dissipation_, wear_volume_, {}, {}, {}};
+  StepperMemory m{next_, last_normal_, last_target_, dissipation_, wear_volume_, {}, {}, {}, {}};
   if (bound_.size() > 0) m.fields["bound"] = bound_;
   m.masing = masing_.flatten();
   if (model_.scenario.load.tolerance > 0.0) {
@@ -57,6 +57,7 @@ StepperMemory Stepper::memory() const {
     m.fields["step_bound_change"] = estimate_memory_.bound_change;
     m.fields["step_slip"] = estimate_memory_.slip;
   }
+  save_step_before(m);
   for (std::size_t c = 0; c < pressure_slip_.size(); ++c)
     m.fields["pressure_slip" + std::to_string(c)] = pressure_slip_[c];
   if (shortcut_p_star_.size() > 0) m.fields["shortcut_p_star"] = shortcut_p_star_;
@@ -84,6 +85,7 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m,
   dissipation_ = m.dissipation;
   wear_volume_ = m.wear_volume;
   restore_estimate_memory(m);
+  restore_step_before(m);
   pressure_slip_.clear();
   const auto w0 = m.fields.find("pressure_slip0"), w1 = m.fields.find("pressure_slip1");
   if (w0 != m.fields.end() && w1 != m.fields.end()) pressure_slip_ = {w0->second, w1->second};
@@ -141,6 +143,7 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
   rec.time = ls.time;
   rec.cycle = ls.cycle;
   rec.turning = ls.turning;
+  begin_step_before(ls);
   bool incremented = false;
   if (hs.cross_coupled()) {
     incremented = coupled_step(ls, rec);
@@ -155,6 +158,7 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
   }
   // No increment (the initial loading, an unchanged load): nothing slips in this step.
   if (!incremented) state_.classify(bound_, model_.scenario.solver.tolerance, Field(), 0.0);
+  end_step_before(ls);
   rec.Fz = state_.normal_force;
   rec.delta = state_.indentation;
   const TangentialOperator& op = *model_.tangential_operator;
@@ -480,11 +484,14 @@ void Stepper::accumulate_slip(const VecField& u0, const VecField* tau0, const Ei
   else
     state_.classify(bound_, eps, work_.slip, slip_threshold());
   if (moving) {
-    const StepStart start = step_start(before, *tau0);
+    StepStart start = step_start(before, *tau0);
+    const std::optional<StepBefore> prior = step_before();
+    if (prior) start.before = &*prior;
     step_work(&start, state_, bound_, s, work_);
   } else {
     step_work(nullptr, state_, bound_, s, work_);
   }
+  remember_step(moving ? &before : nullptr);
   const auto slip = std::uint8_t(NodeState::slip);
   auto book = [&](Eigen::Index k) {
     const double slipping = state_.state(k) == slip ? 1.0 : 0.0;

@@ -164,6 +164,13 @@ const std::vector<Rule>& rules() {
       {"load.steps_per_cycle", unless_path(PathType::sine)},
       {"load.steps", unless_path(PathType::ramp)},
       {"load.table", unless_path(PathType::table)},
+      {"load.interpolation",
+       [](const Scenario& sc) -> std::string {
+         if (sc.load.path != PathType::table) return unless_path(PathType::table)(sc);
+         return wear_run(sc) ? "wear runs solve a table's rows and book the trapezoid between "
+                               "them (docs/algorithms.md)"
+                             : "";
+       }},
       {"solver.coupling_tolerance",
        [](const Scenario& sc) -> std::string {
          return sc.solver.coupling == Coupling::coupled

@@ -103,6 +103,8 @@ std::vector<ScenarioKey> make_table() {
       boolean("load.allow_large_shift", "run tangential shifts past one contact radius"),
       real("load.tolerance", "1", 0.0, false, 0.1, false, "0",
            "relative error per period of steps whose normal load changes; 0: off"),
+      choice("load.interpolation", {"linear", "cubic"}, "linear",
+             "table: load between rows on straight lines or a not-a-knot cubic spline"),
       // Below 1e-14 no solve can get: round-off of the double sums over the grid leaves
       // relative residuals of ~6e-15 already at n = 16 (1e-300 ran 5000 iterations into exit 3).
       real("solver.tolerance", "1", 1e-14, false, 1e-2, false, "1e-08",

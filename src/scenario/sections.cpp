@@ -183,6 +183,8 @@ void read_load_values(const Reader& r, const fs::path& base, LoadSpec& l) {
   if (r.has("load.table")) l.table = r.path("load.table", base, l.path == PathType::table);
   if (r.has("load.allow_large_shift")) l.allow_large_shift = r.boolean("load.allow_large_shift");
   if (r.has("load.tolerance")) l.tolerance = r.number("load.tolerance");
+  if (r.has("load.interpolation"))
+    l.interpolation = static_cast<LoadInterpolation>(r.option("load.interpolation"));
 }
 
 void check_amplitudes(const Reader& r, const LoadSpec& l) {

@@ -2,7 +2,7 @@
 """Run time against error: fixed steps against error-controlled steps (load.tolerance).
 
 Usage: step_control_cost.py FRETBEM CASE [--rows N] [--splits 1,2,4,8] [--tolerances ...]
-                             [--limit J]
+                             [--limit J] [--interpolation linear|cubic]
 
 CASE: sphere (mindlin_cycle.ini's sphere at n = 96 under F_z = P (1 + 0.3 sin 2 pi t),
 F_x = 0.5 mu P cos 2 pi t, P = 10 N), displacement (the same F_z, U_x = 80 nm cos 2 pi t, n = 48)
@@ -16,6 +16,9 @@ dissipation is Richardson (order 2) from the two largest splits. Error-controlle
 N-row table with load.tolerance. Per run: the third period's dissipated_energy, its error
 against the limit, the CPU seconds of the run (user + system), the convolutions of the run and
 the cycle's step_error. Prints CSV.
+With --interpolation cubic every run sets load.interpolation = cubic, and the split rows are
+sampled from the not-a-knot spline of the N-row table (scipy's CubicSpline), which is the
+spline of the split table too: every split is the same smooth path, in N s steps a period.
 """
 import argparse
 import csv
@@ -46,11 +49,20 @@ CASES = {
 MU = 0.5
 
 
-def write_table(path, case, rows, split):
+def spline_of_rows(rows, fz, ft):
+    """The not-a-knot splines of F_z and the tangential column through the N-row samples."""
+    from scipy.interpolate import CubicSpline
+    t = [-0.25 + j / rows for j in range(3 * rows + rows // 4 + 1)]
+    return (CubicSpline(t, [fz(x) for x in t], bc_type="not-a-knot"),
+            CubicSpline(t, [ft(x) for x in t], bc_type="not-a-knot"))
+
+
+def write_table(path, case, rows, split, cubic=False):
     c = CASES[case]
     P, amp = c["P"], c["amplitude"](c["P"], MU)
     fz = lambda t: P * (1 + 0.3 * math.sin(2 * math.pi * t))
     ft = lambda t: amp * math.cos(2 * math.pi * t)
+    sz, st = spline_of_rows(rows, fz, ft) if cubic else (None, None)
     with open(path, "w") as f:
         f.write("time,Fz,%s\n" % c["column"])
         t0 = -0.25
@@ -60,12 +72,16 @@ def write_table(path, case, rows, split):
             for k in range(1, split + 1):
                 w = k / split
                 t = b if k == split else a + w * (b - a)
-                z = fz(b) if k == split else (1 - w) * fz(a) + w * fz(b)
-                x = ft(b) if k == split else (1 - w) * ft(a) + w * ft(b)
+                if k == split:
+                    z, x = fz(b), ft(b)
+                elif cubic:
+                    z, x = float(sz(t)), float(st(t))
+                else:
+                    z, x = (1 - w) * fz(a) + w * fz(b), (1 - w) * ft(a) + w * ft(b)
                 f.write("%.17g,%.17g,%.17g\n" % (t, z, x))
 
 
-def write_scenario(path, case, table, tolerance):
+def write_scenario(path, case, table, tolerance, cubic=False):
     c = CASES[case]
     with open(path, "w") as f:
         f.write("[material]\nE = 210e9\nnu = 0.3\nmu = %g\n" % MU)
@@ -76,14 +92,16 @@ def write_scenario(path, case, table, tolerance):
             f.write("control = displacement\n")
         if tolerance:
             f.write("tolerance = %g\n" % tolerance)
+        if cubic:
+            f.write("interpolation = cubic\n")
         f.write("[solver]\nstiffness = none\n" + c.get("solver", ""))
 
 
-def run(binary, work, case, rows, split, tolerance):
+def run(binary, work, case, rows, split, tolerance, cubic=False):
     tag = "%s_%d_%d_%g" % (case, rows, split, tolerance)
     table, ini, out = (os.path.join(work, tag + e) for e in (".csv", ".ini", "_out"))
-    write_table(table, case, rows, split)
-    write_scenario(ini, case, table, tolerance)
+    write_table(table, case, rows, split, cubic)
+    write_scenario(ini, case, table, tolerance, cubic)
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     subprocess.run([binary, "run", ini, "--out", out, "--quiet"], check=True,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -104,11 +122,13 @@ def main():
     ap.add_argument("--splits", default="1,2,4,8")
     ap.add_argument("--tolerances", default="1e-2,1e-3,5e-4,1e-4")
     ap.add_argument("--limit", type=float, help="known step limit (J): no fixed runs")
+    ap.add_argument("--interpolation", choices=["linear", "cubic"], default="linear")
     a = ap.parse_args()
+    cubic = a.interpolation == "cubic"
     splits = [int(s) for s in a.splits.split(",")]
     tols = [float(t) for t in a.tolerances.split(",") if t]
     with tempfile.TemporaryDirectory() as work:
-        fixed = {} if a.limit else {s: run(a.fretbem, work, a.case, a.rows, s, 0.0)
+        fixed = {} if a.limit else {s: run(a.fretbem, work, a.case, a.rows, s, 0.0, cubic)
                                     for s in splits}
         if a.limit:
             limit = a.limit
@@ -125,7 +145,7 @@ def main():
                                                         est))
             sys.stdout.flush()
         for t in tols:
-            d, cpu, conv, est = run(a.fretbem, work, a.case, a.rows, 1, t)
+            d, cpu, conv, est = run(a.fretbem, work, a.case, a.rows, 1, t, cubic)
             print("tolerance %g,%d,%.6e,%+.2e,%.1f,%d,%.2e" % (t, a.rows, d, d / limit - 1, cpu,
                                                               conv, est))
             sys.stdout.flush()

@@ -17,6 +17,13 @@ struct NormalLoad {
   bool operator==(const NormalLoad&) const = default;
 };
 
+/// load.interpolation = cubic: the path's rates of change at a table row (per unit of time),
+/// the slopes of its spline (history/load_spline.hpp).
+struct PathRate {
+  double normal = 0.0;    ///< of the normal load's value (N or m)
+  Vec2 target{0.0, 0.0};  ///< of the tangential target (N or m)
+};
+
 /// One load step. Row 0 of a path is the initial normal loading with zero tangential load.
 struct LoadStep {
   double time = 0.0;
@@ -28,6 +35,9 @@ struct LoadStep {
   Vec2 target{0.0, 0.0};
   bool relative = true;  ///< force target in units of mu F_z (ramp, sine) or in N (tables)
   bool turning = false;  ///< a turning point of the path (fields are saved there)
+  /// A row of a table interpolated by a spline: its slopes there, shared by the rows on either
+  /// side (the path is C1 through it). Absent: the load is linear up to this step.
+  std::optional<PathRate> rate{};
 };
 
 /// The cycle of path time t (period 1): its integer part, floor(t), within a rounding error

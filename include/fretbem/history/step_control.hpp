@@ -20,9 +20,11 @@ constexpr int kMaxSubsteps = 256;
 /// the same increment whatever the step, and is never subdivided.
 bool bound_moves_within(const LoadStep& a, const LoadStep& b);
 
-/// The load at fraction theta in [0, 1] of the step from a to b: time, normal load and
-/// tangential target linear in theta (tables are linear between rows). Control and units are
-/// b's; the interpolated load is no turning point.
+/// The load at fraction theta in [0, 1] of the step from a to b, the one interpolation of a
+/// path within a row: time linear in theta; normal load and tangential target on the table's
+/// spline where both ends carry its slopes (load.interpolation = cubic, cubic Hermite form),
+/// else linear (and no slopes). Control and units are b's; the interpolated load is no turning
+/// point.
 LoadStep interpolate_load(const LoadStep& a, const LoadStep& b, double theta);
 
 /// One node's bound change (Pa) and booked slip length (m) over a step of `span` periods.

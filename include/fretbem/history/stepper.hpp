@@ -40,6 +40,10 @@ struct StepperMemory {
   /// rate (step_control.hpp); empty otherwise. The last step's bound change and
   /// slip are the fields "step_bound_change" and "step_slip".
   std::vector<double> step_estimate;
+  /// load.interpolation = cubic (three-point rule, step_before.cpp): the last step's span
+  /// (periods) and 1 where it joins the next on the spline; its bound and pressure changes and
+  /// through-slip are the fields "before_bound_change", "before_pressure_change", "before_slip".
+  std::vector<double> step_before;
 };
 
 class Stepper {
@@ -129,6 +133,22 @@ class Stepper {
   void restore_estimate_memory(const StepperMemory& m);
   void say_depth_limit(int k, double error, double span);
 
+  // The step before, for the three-point rule (load.interpolation = cubic; step_before.cpp).
+  /// Per node the bound and pressure changes (Pa) and through-slip (m) of the last step, its
+  /// span, and whether it lies on the spline with no turning point at its end.
+  struct StepBeforeMemory {
+    Field bound_change, pressure_change, slip;
+    double span = 0.0;
+    bool smooth = false;
+  };
+  bool three_point_applies() const;
+  void begin_step_before(const LoadStep& ls);
+  std::optional<StepBefore> step_before() const;
+  void remember_step(const StateField* before);
+  void end_step_before(const LoadStep& ls);
+  void save_step_before(StepperMemory& m) const;
+  void restore_step_before(const StepperMemory& m);
+
   Model& model_;
   InterfaceState state_;
   Field bound_;
@@ -187,7 +207,14 @@ class Stepper {
   bool estimated_ = false;        ///< the step being advanced booked an increment
   double step_work_error_ = 0.0;  ///< its estimated work error (J)
   bool depth_limit_said_ = false;
-  Field surface_slab_;  ///< local_surface on a distributed grid
+  StepBeforeMemory before_;          ///< the last step, as the next one's quadrature reads it
+  double last_time_ = 0.0;           ///< the time the last step ended at (periods)
+  bool last_end_on_spline_ = false;  ///< it ended on the table's spline
+  bool step_on_spline_ = false;      ///< the step being advanced ends on the spline
+  double step_span_ = 0.0;           ///< its span (periods)
+  bool step_turning_ = false;        ///< it ends at a turning point
+  bool step_booked_ = false;         ///< accumulate_slip booked it
+  Field surface_slab_;               ///< local_surface on a distributed grid
 };
 
 }  // namespace fretbem

@@ -18,6 +18,8 @@ namespace fretbem {
 enum class SurfaceType { sphere, flat, rough, file };
 enum class PathType { none, ramp, sine, table };
 enum class Control { force, displacement };
+/// How a load table joins its rows: straight lines, or a not-a-knot cubic spline (C2).
+enum class LoadInterpolation { linear, cubic };
 enum class TangentialAlgorithm { projected, partition };
 /// When the exact differential stiffness kx is computed (solver.stiffness): every step, only at
 /// the ends of monotone segments (step 0, turning points, the last step), or never. Rows
@@ -70,6 +72,11 @@ struct LoadSpec {
   /// changes may carry (history/step_control: an embedded estimate, sub-steps within the
   /// row); 0: one solve a row.
   double tolerance = 0.0;
+  /// load.interpolation: how a table's load runs between its rows: linear, or cubic (a
+  /// not-a-knot spline through the rows, history/load_spline.hpp), which sub-steps follow and
+  /// under which the work of nodes slipping through consecutive steps takes the three-point
+  /// rule (contact/step_work.hpp). The rows themselves are the same either way.
+  LoadInterpolation interpolation = LoadInterpolation::linear;
 };
 
 struct SolverSpec {
