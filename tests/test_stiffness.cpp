@@ -117,7 +117,7 @@ TEST(Stiffness, CiavarellaJaegerAndPreconditionedAgree) {
 // The energy stop: k_x of a solve stopped on J's estimated error stays within the solver
 // tolerance of a tight solve (1e-13), cold and warm-started along a shrinking sequence of stick
 // sets, on the sphere (one patch) and a rough surface (many), at the tolerances users type.
-// The estimate aims at 0.3 tolerance; the test holds the contract (1 tolerance) and prints the
+// The estimate aims at 0.1 tolerance; the test holds the contract (1 tolerance) and prints the
 // worst ratio.
 TEST(Stiffness, EnergyStopKeepsKxWithinTheTolerance) {
   Contact64 c;

@@ -17,7 +17,7 @@ struct StiffnessResult {
   double kx = 0.0;  ///< N/m; +inf when every node of a periodic grid sticks (no mean mode)
   int iterations = 0;
   double residual = 0.0;        ///< RMS residual of C psi = e_x at the stop (1: no shift matched)
-  double kx_error = 0.0;        ///< estimated relative error of kx at the stop (<= 0.3 tolerance)
+  double kx_error = 0.0;        ///< estimated relative error of kx at the stop (<= 0.1 tolerance)
   bool preconditioned = false;  ///< the Fourier-preconditioned CG was used
   bool reused = false;          ///< the stick set was one of the recently solved ones
 };
@@ -32,7 +32,7 @@ class StiffnessSolver {
   /// Solves C psi = e_x on the stick nodes of `state` (psi = 0 elsewhere), warm-started from
   /// the previous solution restricted to the new stick set. k_x = J h^2 with the energy value
   /// J = 2 e.psi - psi.C psi, whose error is quadratic in the solve's (sum psi_x is linear in
-  /// it): the CG stops when J's estimated relative error is below 0.3 tolerance, or the
+  /// it): the CG stops when J's estimated relative error is below 0.1 tolerance, or the
   /// residual below the tolerance, whichever comes first (about half the iterations of the
   /// residual test alone). Throws SolverError when neither is reached.
   /// `start` (component 0, on the grid; ignored when empty): the CG's start instead, imaged by
