@@ -337,6 +337,9 @@ class ProjectedCgSolver::Iteration {
   double known_objective_ = 0.0;
 };
 
+// One threshold for every solve that may end on its updated image (cg_core.hpp).
+static_assert(ProjectedCgSolver::kUnverifiedTolerance == cg::kUnverifiedTolerance);
+
 template <int NC>
 TangentialResult ProjectedCgSolver::solve_components(const TangentialIncrement& inc, VecField& tau,
                                                      VecField& u) {

@@ -19,6 +19,13 @@
 
 namespace fretbem::cg {
 
+/// Smallest tolerance at which a solve may end on its incrementally updated image without the
+/// verifying product (double-precision FFTs only): each update of the image carries the
+/// product's round-off, ~1e-15 of its size (log2 of the padded size times the unit
+/// round-off), and the updates sum to about the start's distance from the solution, so the
+/// drift of the residual stays three decades below this.
+inline constexpr double kUnverifiedTolerance = 1e-11;
+
 /// What the loop does after a problem's hook.
 enum class Next {
   proceed,  ///< go on with this iteration
