@@ -1,5 +1,6 @@
-// Resolution and domain reports: the slip-ring measure against an annulus,
-// the edge load share, Hertz predictions of `fretbem check`, warnings and refusals of a run.
+// Resolution and domain reports: the slip-ring measure against an annulus, the choice of a
+// cycle's peak among equal loads, the edge load share, Hertz predictions of `fretbem check`,
+// warnings and refusals of a run.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -9,7 +10,10 @@
 #include <fstream>
 #include <iomanip>
 #include <sstream>
+#include <tuple>
+#include <vector>
 
+#include "fretbem/history/cycle_summary.hpp"
 #include "fretbem/history/resolution.hpp"
 #include "support/cli.hpp"
 #include "support/hertz.hpp"
@@ -276,4 +280,55 @@ TEST(EdgeLoad, ContactGrowingPastTheGridDuringTheHistory) {
   EXPECT_EQ(p.status, 0) << p.err;
   EXPECT_EQ(p.err.find("outermost"), std::string::npos) << p.err;
   fs::remove_all(out);
+}
+
+namespace {
+
+// The cycle (0, 1] of a table path sampled at quarters: F_x = +Q at t = 0 (the step before),
+// -Q at t = 1/2 and +Q at t = 1 (turning points; slip areas 88 and 0, k_x 1 and 2), each
+// extreme moved by `ulps` units in its last place (the round-off of a sum in another order).
+CycleRow cycle_with_equal_peaks(int ulp_half, int ulp_end) {
+  const double Q = 2.5;
+  auto moved = [](double v, int ulps) {
+    for (; ulps > 0; --ulps) v = std::nextafter(v, INFINITY);
+    for (; ulps < 0; ++ulps) v = std::nextafter(v, -INFINITY);
+    return v;
+  };
+  CycleAccumulator acc(PathType::table, 1.0);
+  auto step = [&acc](int k, double t, double fx, bool turning, double slip, double kx) {
+    StepRecord r;
+    r.step = k, r.time = t, r.Fx = fx, r.turning = turning, r.slip_area = slip, r.kx = kx;
+    return acc.add(r);
+  };
+  step(0, 0.0, Q, false, 0.0, 1.0);
+  step(1, 0.25, 0.0, false, 10.0, 1.0);
+  step(2, 0.5, moved(-Q, ulp_half), true, 88.0, 1.0);
+  step(3, 0.75, 0.0, false, 10.0, 1.0);
+  step(4, 1.0, moved(Q, ulp_end), true, 0.0, 2.0);
+  return *acc.finish();
+}
+
+}  // namespace
+
+// Two turning points of one |F_x| (a table's -Q and +Q rows) whose computed forces differ in
+// their last bits, either way round, as the order of a sum (the ranks of a distributed grid)
+// makes them: the cycle's peak is the first (slip area 88) and k_x at the largest F_x the last
+// turning point, whatever the bits. A difference the path resolves still decides: +Q larger
+// by 1e-6 makes t = 1 the peak.
+TEST(CyclePeak, EqualLoadsPickTheSameTurningPointWhateverTheirLastBits) {
+  for (int half : {-2, 0, 2})
+    for (int end : {-2, 0, 2}) {
+      const CycleRow c = cycle_with_equal_peaks(half, end);
+      EXPECT_EQ(c.slip_area_at_peak, 88.0) << half << " " << end;
+      EXPECT_EQ(c.kx_at_max, 2.0) << half << " " << end;
+      EXPECT_EQ(c.kx_at_min, 1.0) << half << " " << end;
+    }
+  CycleAccumulator acc(PathType::table, 1.0);
+  for (const auto& [k, t, fx, slip] : std::vector<std::tuple<int, double, double, double>>{
+           {0, 0.0, 2.5, 0.0}, {1, 0.5, -2.5, 88.0}, {2, 1.0, 2.5 * (1 + 1e-6), 0.0}}) {
+    StepRecord r;
+    r.step = k, r.time = t, r.Fx = fx, r.turning = k > 0, r.slip_area = slip;
+    acc.add(r);
+  }
+  EXPECT_EQ(acc.finish()->slip_area_at_peak, 0.0);
 }

@@ -44,14 +44,20 @@ void CycleAccumulator::track_resolution(const StepRecord& r) {
   }
 }
 
+// Which step is the cycle's largest (smallest) F_x and which turning point its peak |F_x| is
+// decided with kSameLoad: points of one load (a table's +Q rows) differ by round-off that
+// depends on the ranks: a plain comparison picks another row on two ranks than serially, and
+// a run resumed on another layout mixes rows of both. Of equal loads the last step gives k_x
+// and the first turning point the slip area (the choices of >= and > in exact arithmetic).
 void CycleAccumulator::track_extremes(const StepRecord& r) {
-  if (steps_ == 0 || r.Fx >= fmax_) k_any_max_ = r.kx;
-  if (steps_ == 0 || r.Fx <= fmin_) k_any_min_ = r.kx;
+  if (steps_ == 0 || !load_exceeds(fmax_, r.Fx)) k_any_max_ = r.kx;
+  if (steps_ == 0 || !load_exceeds(-fmin_, -r.Fx)) k_any_min_ = r.kx;
   fmin_ = std::min(fmin_, r.Fx), fmax_ = std::max(fmax_, r.Fx);
   umin_ = std::min(umin_, r.Ux), umax_ = std::max(umax_, r.Ux);
-  if (r.turning && r.Fx >= fmax_) k_at_max_ = r.kx, turn_max_ = true;
-  if (r.turning && r.Fx <= fmin_) k_at_min_ = r.kx, turn_min_ = true;
-  if (r.turning && std::abs(r.Fx) > peak_) peak_ = std::abs(r.Fx), slip_at_peak_ = r.slip_area;
+  if (r.turning && !load_exceeds(fmax_, r.Fx)) k_at_max_ = r.kx, turn_max_ = true;
+  if (r.turning && !load_exceeds(-fmin_, -r.Fx)) k_at_min_ = r.kx, turn_min_ = true;
+  if (r.turning && load_exceeds(std::abs(r.Fx), peak_))
+    peak_ = std::abs(r.Fx), slip_at_peak_ = r.slip_area;
 }
 
 std::optional<CycleRow> CycleAccumulator::add(const StepRecord& r) {

@@ -44,9 +44,13 @@ double slip_ring_width(long slip, long edges) {
   return slip == 0 || edges == 0 ? 0.0 : double(slip) / (M_PI / 4 * double(edges));
 }
 
+bool load_exceeds(double a, double b) {
+  return a > b + kSameLoad * std::abs(b);
+}
+
 bool load_peak(const StepRecord& r, const StepRecord& prev) {
   return r.turning && r.step > 0 &&
-         std::hypot(r.Fx, r.Fy) >= (1 - 1e-9) * std::hypot(prev.Fx, prev.Fy);
+         !load_exceeds(std::hypot(prev.Fx, prev.Fy), std::hypot(r.Fx, r.Fy));
 }
 
 long contact_nodes(const StateField& state) {

@@ -21,9 +21,19 @@ namespace fretbem {
 double slip_ring_cells(const StateField& state);
 /// The same from the counts: N_slip slip nodes, E contact edges.
 double slip_ring_width(long slip_nodes, long contact_edges);
-/// A turning point at which the tangential load peaks (|F_t| not below the previous step's):
-/// where the slip ring is measured. The end of a sine path, reached while reloading through
-/// zero, is not one.
+/// Relative margin within which two computed loads (N) count as one load. A table reaches the
+/// same |F_x| at several turning points (a sampled cosine: +Q and -Q every period), and the
+/// force projection holds each to round-off only (1e-15 of the bound's sum); that round-off
+/// follows the order of the sums, which the ranks of a distributed grid change. A choice
+/// between such points taken on it (which turning point is the cycle's peak) then differed
+/// between a serial run and the same run on two ranks. The margin is far above the round-off
+/// and far below any load step a path resolves.
+inline constexpr double kSameLoad = 1e-9;
+/// Whether load `a` exceeds load `b` by more than kSameLoad |b| (a, b in N).
+bool load_exceeds(double a, double b);
+/// A turning point at which the tangential load peaks (|F_t| not below the previous step's
+/// beyond kSameLoad): where the slip ring is measured. The end of a sine path, reached while
+/// reloading through zero, is not one.
 bool load_peak(const StepRecord& rec, const StepRecord& previous);
 /// Contact nodes (state not open).
 long contact_nodes(const StateField& state);
