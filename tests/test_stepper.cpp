@@ -14,6 +14,7 @@
 #include <sstream>
 #include <thread>
 
+#include "fretbem/history/resolution.hpp"
 #include "fretbem/io/checkpoint.hpp"
 #include "support/child_process.hpp"
 #include "support/hertz.hpp"
@@ -792,6 +793,51 @@ TEST(Stepper, FixedContactBooksTheContactNodes) {
   EXPECT_LE(c.worst_path, 1e-12 * c.max_U);
   EXPECT_LE(c.worst_work, 1e-12 * c.max_U * gmax);
   EXPECT_LE(c.worst_sum, 1e-12 * c.total);
+}
+
+// At one normal load the record's areas, stick force, contact nodes and slip ring are counted
+// on the contact nodes only, with the contact's perimeter counted once. Checked on every step
+// against counts over the whole grid made here from the step's states: node by node, the
+// perimeter as the faces of contact cells that border an open cell or the domain's edge.
+struct AreaCheck : Observer {
+  long steps = 0, slip_steps = 0, mismatches = 0;
+  void on_step(const StepRecord& r, const InterfaceState& s, const Model& m) override {
+    const double a = m.scenario.grid.cell_area();
+    const auto st = [&](Eigen::Index i, Eigen::Index j) { return NodeState(s.state(i, j)); };
+    const Eigen::Index nx = s.state.rows(), ny = s.state.cols();
+    long stick = 0, at_bound = 0, slip = 0, contact = 0, edges = 0;
+    double fstick = 0.0;
+    for (Eigen::Index j = 0; j < ny; ++j)
+      for (Eigen::Index i = 0; i < nx; ++i) {
+        const NodeState x = st(i, j);
+        if (x == NodeState::open) continue;
+        ++contact;
+        slip += x == NodeState::slip;
+        if (x == NodeState::stick || x == NodeState::stuck_at_bound) {
+          ++stick, at_bound += x == NodeState::stuck_at_bound;
+          fstick += s.traction[0](i, j);
+        }
+        const auto open = [&](Eigen::Index p, Eigen::Index q) {
+          return p < 0 || q < 0 || p >= nx || q >= ny || st(p, q) == NodeState::open;
+        };
+        edges += open(i - 1, j) + open(i + 1, j) + open(i, j - 1) + open(i, j + 1);
+      }
+    ++steps, slip_steps += slip > 0;
+    mismatches += r.contact_nodes != contact || r.stick_area != double(stick) * a ||
+                  r.stuck_at_bound_area != double(at_bound) * a ||
+                  r.slip_area != double(slip) * a ||
+                  r.contact_area != double(stick) * a + double(slip) * a ||
+                  r.slip_ring_cells != slip_ring_width(slip, edges) ||
+                  r.Fx_stick != fstick * m.tangential_operator->direction().x() * a;
+  }
+};
+
+TEST(Stepper, FixedContactAreasAsOnTheWholeGrid) {
+  const AreaCheck c =
+      fretbem_test::run_recorded<AreaCheck>(sphere_scenario(32, sine_load(0.6, 2, 16)));
+  EXPECT_EQ(c.steps, 33);
+  EXPECT_GT(c.slip_steps, 0);
+  EXPECT_EQ(c.mismatches, 0);
 }
 
 // The image's table is in the checkpoint: stopped on the first unloading branch (step 7 of a

@@ -83,14 +83,42 @@ std::int64_t classify_impl(NodeSets& sets, const Field& g, const VecField& tau) 
   return sets.nstick;
 }
 
+// classify and mean_shift in one pass over the contact nodes (the residual's first two passes
+// were a fifth of its time): the same flags, and the stick nodes' sum of u - u0 in the same
+// order. With no stick node the mean over all contact nodes takes its own pass.
+template <int NC>
+Vec<NC> classify_and_shift(NodeSets& sets, const TangentialIncrement& inc, const VecField& tau,
+                           const VecField& u) {
+  const Field& g = *inc.bound;
+  const VecField& u0 = *inc.u0;
+  const bool force = inc.control == TangentialControl::force;
+  std::int64_t local = 0;
+  Vec<NC> sum = Vec<NC>::Zero();
+  for (std::size_t j = 0; j < sets.contact.size(); ++j) {
+    const Eigen::Index k = sets.contact[j];
+    const bool s = at<NC>(tau, k).norm() < g(k) * (1.0 - kBoundEps);
+    sets.stick[j] = s;
+    local += s;
+    if (force && s) sum += at<NC>(u, k) - at<NC>(u0, k);
+  }
+  // One message for the count and the sum (the count first, as count_stick sends it).
+  std::array<double, 1 + NC> totals;
+  totals[0] = double(local);
+  Eigen::Map<Vec<NC>>(totals.data() + 1) = sum;
+  sets.comm->sum(totals);
+  sets.nstick = std::int64_t(totals[0]);
+  if (!force) return inc.target;
+  if (sets.nstick == 0) return mean_shift<NC>(sets, inc, u);
+  return Eigen::Map<Vec<NC>>(totals.data() + 1) / double(sets.nstick);
+}
+
 // One pass: stick nodes must not slip; slip nodes may slip only outward along their traction.
 template <int NC>
 double residual_impl(NodeSets& sets, const TangentialIncrement& inc, const VecField& tau,
                      const VecField& u, double scale, const Grid& grid, Eigen::VectorXd& dU,
                      double& stick_slip2) {
   const Field& g = *inc.bound;
-  classify_impl<NC>(sets, g, tau);
-  const Vec<NC> shift = mean_shift<NC>(sets, inc, u);
+  const Vec<NC> shift = classify_and_shift<NC>(sets, inc, tau, u);
   double stick2 = 0.0, slip2 = 0.0, gsum = 0.0;
   Vec<NC> force = Vec<NC>::Zero();
   for (std::size_t j = 0; j < sets.contact.size(); ++j) {

@@ -43,18 +43,31 @@ BoundWeights bound_weights(const StepStart* start, const InterfaceState& end, co
   return {0.5 * std::clamp(work / (g0 * len), 0.0, 1.0), 0.0, 0.0};
 }
 
+namespace {
+
+// Node k's pressure along the slip and work (step_work).
+void node_work(const StepStart* start, const InterfaceState& end, const Field& bound,
+               const VecField& s, StepWork& out, Eigen::Index k) {
+  const BoundWeights w = bound_weights(start, end, bound, s, out.slip(k), k);
+  const double g0 = start ? start->bound(k) : 0.0, p0 = start ? start->pressure(k) : 0.0;
+  const StepBefore* b = start ? start->before : nullptr;
+  const double dg = b ? b->bound_change(k) : 0.0, dp = b ? b->pressure_change(k) : 0.0;
+  out.pressure(k) = w.start * p0 + w.end * end.pressure(k) + w.change_before * dp;
+  out.work(k) = (w.start * g0 + w.end * bound(k) + w.change_before * dg) * out.slip(k);
+}
+
+}  // namespace
+
 void step_work(const StepStart* start, const InterfaceState& end, const Field& bound,
                const VecField& s, StepWork& out) {
   out.pressure.resize(bound.rows(), bound.cols());
   out.work.resize(bound.rows(), bound.cols());
-  for (Eigen::Index k = 0; k < bound.size(); ++k) {
-    const BoundWeights w = bound_weights(start, end, bound, s, out.slip(k), k);
-    const double g0 = start ? start->bound(k) : 0.0, p0 = start ? start->pressure(k) : 0.0;
-    const StepBefore* b = start ? start->before : nullptr;
-    const double dg = b ? b->bound_change(k) : 0.0, dp = b ? b->pressure_change(k) : 0.0;
-    out.pressure(k) = w.start * p0 + w.end * end.pressure(k) + w.change_before * dp;
-    out.work(k) = (w.start * g0 + w.end * bound(k) + w.change_before * dg) * out.slip(k);
-  }
+  for (Eigen::Index k = 0; k < bound.size(); ++k) node_work(start, end, bound, s, out, k);
+}
+
+void step_work(const InterfaceState& end, const Field& bound, const VecField& s, StepWork& out,
+               std::span<const Eigen::Index> nodes) {
+  for (const Eigen::Index k : nodes) node_work(nullptr, end, bound, s, out, k);
 }
 
 }  // namespace fretbem

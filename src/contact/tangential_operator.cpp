@@ -73,8 +73,12 @@ Vec2 TangentialOperator::to_global(const Eigen::VectorXd& v) const {
   return Vec2(v(0), v(1));
 }
 
+// Each component made zero in place: VecField(n, field) zeroes one field and copies it (a copy
+// of the grid per call, several per increment).
 VecField TangentialOperator::zeros() const {
-  return VecField(ncomp_, hs_.local_zeros());
+  VecField v(static_cast<std::size_t>(ncomp_));
+  for (Field& f : v) f = hs_.local_zeros();
+  return v;
 }
 
 }  // namespace fretbem

@@ -92,27 +92,34 @@ StepRecord StepRecord::from_values(const std::vector<double>& v) {
 
 // One pass over the states (five whole-grid masks and counts before: 5 % of a full-sliding
 // step, perf). F_x of the stick part sums in index order, where Eigen's sum of the masked
-// field did not: the column can move in its last bits.
+// field did not: the column can move in its last bits. A fixed contact's list is in index
+// order too and skips only open nodes, which add nothing: the same sums.
 void measure_areas(const InterfaceState& s, const TangentialOperator& op, const HalfSpace& hs,
-                   StepRecord& r) {
+                   StepRecord& r, const FixedContact* fixed) {
   const double a = op.grid().cell_area();
   std::int64_t stick = 0, at_bound = 0, slip = 0;
   double fstick = 0.0;
-  for (Eigen::Index k = 0; k < s.state.size(); ++k) {
+  auto count = [&](Eigen::Index k) {
     const auto st = NodeState(s.state(k));
     if (st == NodeState::slip) ++slip;
-    if (st != NodeState::stick && st != NodeState::stuck_at_bound) continue;
+    if (st != NodeState::stick && st != NodeState::stuck_at_bound) return;
     ++stick, at_bound += st == NodeState::stuck_at_bound;
     fstick += s.traction[0](k);
-  }
+  };
+  if (fixed)
+    for (const Eigen::Index k : fixed->nodes) count(k);
+  else
+    for (Eigen::Index k = 0; k < s.state.size(); ++k) count(k);
   // The counts and the stick force of every rank of a distributed grid (serial: as they are).
-  std::array<double, 4> totals{double(stick), double(at_bound), double(slip), fstick};
+  std::array<double, 5> totals{double(stick), double(at_bound), double(slip), fstick,
+                               fixed ? double(fixed->nodes.size()) : 0.0};
   hs.communicator().sum(totals);
   // Stick: did not slip in this step, inside the bound or on it.
   r.stick_area = totals[0] * a;
   r.stuck_at_bound_area = totals[1] * a;
-  r.slip_ring_cells = slip_ring_cells(s.state, hs);
-  r.contact_nodes = contact_nodes(s.state, hs);
+  r.slip_ring_cells =
+      fixed ? slip_ring_width(long(totals[2]), fixed->edges) : slip_ring_cells(s.state, hs);
+  r.contact_nodes = fixed ? long(totals[4]) : contact_nodes(s.state, hs);
   r.slip_area = totals[2] * a;
   fstick = totals[3];
   r.contact_area = r.stick_area + r.slip_area;

@@ -26,11 +26,15 @@ constexpr double kFloorRatio = 0.9;
 }  // namespace
 
 // Slip increment s = dU - (u - u0) per node and its length (work_.slip); with `nodes` on those
-// only (a contact that does not change: s elsewhere is left unset, work_.slip zero there).
+// only (a contact that does not change: s elsewhere is left unset, work_'s slip, pressure and
+// work zero there).
 void Stepper::step_slip_vectors(const VecField& u0, const Eigen::VectorXd& dU, VecField& s,
                                 const std::vector<Eigen::Index>* nodes) {
   const int nc = int(state_.traction.size());
-  s.assign(nc, Field(bound_.rows(), bound_.cols()));
+  // Sized, not filled: every entry read is written below (a filled copy per component was a
+  // copy of the grid per step).
+  s.resize(std::size_t(nc));
+  for (Field& f : s) f.resize(bound_.rows(), bound_.cols());
   auto slip_at = [&](Eigen::Index k) {
     double len2 = 0.0;
     for (int c = 0; c < nc; ++c) {
@@ -40,13 +44,16 @@ void Stepper::step_slip_vectors(const VecField& u0, const Eigen::VectorXd& dU, V
     work_.slip(k) = len2;
   };
   if (nodes) {
-    if (!slip_zero_off_contact_) work_.slip = Field::Zero(bound_.rows(), bound_.cols());
-    slip_zero_off_contact_ = true;
+    if (!work_zero_off_contact_) {
+      const Field zero = Field::Zero(bound_.rows(), bound_.cols());
+      work_.slip = zero, work_.pressure = zero, work_.work = zero;
+    }
+    work_zero_off_contact_ = true;
     for (const Eigen::Index k : *nodes) slip_at(k);
     for (const Eigen::Index k : *nodes) work_.slip(k) = std::sqrt(work_.slip(k));
     return;
   }
-  slip_zero_off_contact_ = false;
+  work_zero_off_contact_ = false;
   work_.slip.resize(bound_.rows(), bound_.cols());
   for (Eigen::Index k = 0; k < bound_.size(); ++k) slip_at(k);
   // The roots in one vectorised pass: a root per cell inside the loop above stalled it (a third

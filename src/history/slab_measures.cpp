@@ -25,9 +25,10 @@ std::vector<double> first_rows(const StateField& s, const HalfSpace& hs) {
   return all;
 }
 
-// Cell edges between a contact node and a non-contact one or the domain's edge: 4 per contact
-// node less 2 per pair of neighbouring contact nodes, the pairs across a slab's last row
-// counted by the rank that holds it.
+}  // namespace
+
+// 4 per contact node less 2 per pair of neighbouring contact nodes, the pairs across a slab's
+// last row counted by the rank that holds it.
 long contact_edges(const StateField& s, const HalfSpace& hs) {
   const Communicator& comm = hs.communicator();
   const std::vector<double> next = first_rows(s, hs);
@@ -46,8 +47,6 @@ long contact_edges(const StateField& s, const HalfSpace& hs) {
     }
   return long(comm.sum(double(4 * nodes - 2 * pairs)));
 }
-
-}  // namespace
 
 double slip_ring_cells(const StateField& s, const HalfSpace& hs) {
   if (!hs.communicator().distributed()) return slip_ring_cells(s);

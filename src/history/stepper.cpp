@@ -169,7 +169,7 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
   const Vec2 Fg = op.to_global(Floc);
   rec.Fx = Fg.x() + 0.0, rec.Fy = Fg.y() + 0.0;  // + 0.0: no -0 in the output
   rec.Ux = state_.shift.x() + 0.0, rec.Uy = state_.shift.y() + 0.0;
-  measure_areas(state_, op, hs, rec);
+  measure_areas(state_, op, hs, rec, fixed_contact());
   rec.kx = std::numeric_limits<double>::quiet_NaN();
   if (!substep_ && stiffness_wanted(model_, k, ls.turning))
     rec.kx = model_.stiffness->solve(state_.state, shortcut_ ? &kx_start_ : nullptr).kx;
@@ -183,12 +183,23 @@ StepRecord Stepper::advance(const LoadStep& ls, int k) {
   return rec;
 }
 
-// The contact nodes of the bound, read by accumulate_slip where the contact does not change.
+// The contact nodes of the bound, read by accumulate_slip and measure_areas where the contact
+// does not change.
 void Stepper::note_contact() {
   contact_.clear();
+  contact_edges_ = -1;
   if (!contact_fixed_) return;
   for (Eigen::Index k = 0; k < bound_.size(); ++k)
     if (bound_(k) > 0.0) contact_.push_back(k);
+}
+
+// The contact of a run whose contact does not change, for measure_areas (null otherwise); its
+// edges counted once, on the first classified state (open exactly off contact_).
+const FixedContact* Stepper::fixed_contact() {
+  if (!contact_fixed_) return nullptr;
+  if (contact_edges_ < 0) contact_edges_ = contact_edges(state_.state, *model_.half_space);
+  fixed_contact_ = {contact_, contact_edges_};
+  return &fixed_contact_;
 }
 
 // A solve failed after every fallback: name the step and cycle (and the wear cycle of a wear
@@ -488,6 +499,8 @@ void Stepper::accumulate_slip(const VecField& u0, const VecField* tau0, const Ei
     const std::optional<StepBefore> prior = step_before();
     if (prior) start.before = &*prior;
     step_work(&start, state_, bound_, s, work_);
+  } else if (listed) {
+    step_work(state_, bound_, s, work_, contact_);
   } else {
     step_work(nullptr, state_, bound_, s, work_);
   }

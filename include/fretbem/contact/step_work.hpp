@@ -4,6 +4,8 @@
 // work and the energy law's alpha x the work, to round-off.
 #pragma once
 
+#include <span>
+
 #include "fretbem/contact/interface_state.hpp"
 
 namespace fretbem {
@@ -78,5 +80,10 @@ BoundWeights bound_weights(const StepStart* start, const InterfaceState& end, co
 /// The pressure along the slip takes the same weights on p0 and p1.
 void step_work(const StepStart* start, const InterfaceState& end, const Field& bound,
                const VecField& s, StepWork& out);
+/// The same on the listed nodes only, for a step whose bound did not move (no start): off
+/// them the node is open, so its pressure along the slip and its work are zero, and `out`'s
+/// pressure and work must already hold those zeros (the caller's contract; sized like bound).
+void step_work(const InterfaceState& end, const Field& bound, const VecField& s, StepWork& out,
+               std::span<const Eigen::Index> nodes);
 
 }  // namespace fretbem

@@ -1,6 +1,7 @@
 // Observables: the per-step scalars of the time series (README "Time series").
 #pragma once
 
+#include <span>
 #include <string>
 #include <vector>
 
@@ -43,10 +44,19 @@ struct StepRecord {
   static StepRecord from_values(const std::vector<double>& v);
 };
 
-/// Fills the areas and Fx_stick of a record from a classified interface state (x components
-/// from the operator's basis); on a distributed grid `s` holds this rank's slabs and the
-/// record the whole grid's values (hs's communicator).
+/// A contact that does not change over a run's steps: its nodes (this rank's slab indices,
+/// ascending; every other node open) and its cell edges (slab_measures.hpp contact_edges).
+struct FixedContact {
+  std::span<const Eigen::Index> nodes;
+  long edges = 0;
+};
+
+/// Fills the areas, Fx_stick, slip_ring_cells and contact_nodes of a record from a classified
+/// interface state (x components from the operator's basis); on a distributed grid `s` holds
+/// this rank's slabs and the record the whole grid's values (hs's communicator). With `fixed`
+/// the nodes are counted on its list (the open nodes off it count nothing) and the ring's
+/// perimeter is its edges: the same numbers without passes over the whole grid.
 void measure_areas(const InterfaceState& s, const TangentialOperator& op, const HalfSpace& hs,
-                   StepRecord& r);
+                   StepRecord& r, const FixedContact* fixed = nullptr);
 
 }  // namespace fretbem

@@ -100,6 +100,7 @@ class Stepper {
   void step_slip_vectors(const VecField& u0, const Eigen::VectorXd& dU, VecField& s,
                          const std::vector<Eigen::Index>* nodes = nullptr);
   void note_contact();
+  const FixedContact* fixed_contact();
   StepSlip step_slip(const VecField& u0, const VecField& tau0, const Eigen::VectorXd& dU);
   int settle_bound(const TangentialIncrement& inc, const VecField& tau0, TangentialResult& r,
                    StepRecord& rec);
@@ -174,12 +175,16 @@ class Stepper {
   bool contact_fixed_ = false;        ///< TangentialIncrement::contact_fixed for every step
   /// With contact_fixed_: the contact nodes (g > 0) of the bound, the nodes accumulate_slip books.
   std::vector<Eigen::Index> contact_;
-  bool slip_zero_off_contact_ = false;  ///< work_.slip is zero off contact_ (step_slip_vectors)
-  double edge_load_share_ = 0.0;        ///< edge_load_share of state_.pressure (solve_normal)
-  MasingImage masing_;                  ///< the Masing image's virgin table and branch origin
-  const VecField* guess_ = nullptr;     ///< the predictor of the step being advanced
-  bool guess_continues_ = false;        ///< guess_ is the Masing image or a secant (no comparison)
-  bool guess_predicted_ = false;        ///< guess_ is the cycle predictor's (CyclePredictor::find)
+  long contact_edges_ = -1;     ///< contact_edges of contact_ (< 0: not counted yet)
+  FixedContact fixed_contact_;  ///< fixed_contact(): contact_ and its edges
+  /// work_'s slip, pressure and work are zero off contact_ (step_slip_vectors): the listed
+  /// steps write them on contact_ only.
+  bool work_zero_off_contact_ = false;
+  double edge_load_share_ = 0.0;     ///< edge_load_share of state_.pressure (solve_normal)
+  MasingImage masing_;               ///< the Masing image's virgin table and branch origin
+  const VecField* guess_ = nullptr;  ///< the predictor of the step being advanced
+  bool guess_continues_ = false;     ///< guess_ is the Masing image or a secant (no comparison)
+  bool guess_predicted_ = false;     ///< guess_ is the cycle predictor's (CyclePredictor::find)
   /// The step being advanced is path step k on the path's first monotone segment, where the
   /// Ciavarella–Jäger shortcut holds. Only a path index says so: a step given explicitly (a
   /// wear cycle's, whose index is a row) is solved incrementally. Judged by its row index, every
