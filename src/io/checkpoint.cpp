@@ -176,6 +176,11 @@ void write_memory(hid_t f, const StepperMemory& m) {
   if (!m.step_before.empty()) write_vector(f, "step_before", m.step_before);
 }
 
+// The k-th evaluation (oldest first) of the warm start's path: its worn depth or pressure.
+std::string warm_path_name(const char* what, std::size_t k) {
+  return std::string("wear_warm_path_") + what + "_" + std::to_string(k);
+}
+
 // The wear part (wear runs only): scalars in one vector, the worn depth as a field.
 void write_wear(hid_t f, const WearCheckpoint& w) {
   const WearCounters& c = w.counters;
@@ -186,6 +191,14 @@ void write_wear(hid_t f, const WearCheckpoint& w) {
   write_field(f, "wear_worn", w.worn);
   if (w.warm.pressure.size() > 0) write_field(f, "wear_warm_pressure", w.warm.pressure);
   if (w.warm.corrective.size() > 0) write_field(f, "wear_warm_corrective", w.warm.corrective);
+  for (std::size_t k = 0; k < w.warm.worn_path.size(); ++k) {
+    write_field(f, warm_path_name("worn", k), w.warm.worn_path[k]);
+    write_field(f, warm_path_name("pressure", k), w.warm.pressure_path[k]);
+  }
+  if (w.warm.predicted_worn.size() > 0) {
+    write_field(f, "wear_warm_predicted_worn", w.warm.predicted_worn);
+    write_field(f, "wear_warm_predicted_pressure", w.warm.predicted_pressure);
+  }
 }
 
 // The whole checkpoint as the bytes of an HDF5 file, built with the in-memory (core) driver:
@@ -388,6 +401,15 @@ std::optional<WearCheckpoint> read_wear(const Reader& r) {
   // Without it the next evaluation starts cold.
   if (r.exists("wear_warm_pressure")) w.warm.pressure = r.field("wear_warm_pressure");
   if (r.exists("wear_warm_corrective")) w.warm.corrective = r.field("wear_warm_corrective");
+  // The evaluations' path the next start extrapolates from (without it: the last pressure).
+  for (std::size_t k = 0; r.exists(warm_path_name("worn", k)); ++k) {
+    w.warm.worn_path.push_back(r.field(warm_path_name("worn", k)));
+    w.warm.pressure_path.push_back(r.field(warm_path_name("pressure", k)));
+  }
+  if (r.exists("wear_warm_predicted_worn")) {
+    w.warm.predicted_worn = r.field("wear_warm_predicted_worn");
+    w.warm.predicted_pressure = r.field("wear_warm_predicted_pressure");
+  }
   return w;
 }
 

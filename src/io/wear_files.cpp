@@ -96,10 +96,13 @@ void WearFiles::snapshot(double N, const Field& worn_slab, const Field& p_slab, 
 void WearFiles::step_done(const WearCheckpoint& at) {
   const HalfSpace& hs = *model_.half_space;
   WearCheckpoint c = at;
-  c.worn = gathered(hs, at.worn);
-  // A warm start is empty (cold) on every rank alike.
-  if (at.warm.pressure.size() > 0) c.warm.pressure = gathered(hs, at.warm.pressure);
-  if (at.warm.corrective.size() > 0) c.warm.corrective = gathered(hs, at.warm.corrective);
+  // One rank holds the whole grid already: gathering would copy every field once more (the
+  // warm start's path alone is up to 8 grid fields).
+  if (hs.communicator().distributed()) {
+    c.worn = gathered(hs, at.worn);
+    // A warm start is empty (cold) on every rank alike.
+    c.warm = at.warm.mapped([&](const Field& x) { return gathered(hs, x); });
+  }
   c.cycles_rows = rows_, c.snapshots = snapshots_;
   save_checkpoint(model_.scenario.output.dir, model_, stepper_, &c);
 }

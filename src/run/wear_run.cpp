@@ -102,8 +102,7 @@ WearReport run_wear(Model& model, bool quiet, const Checkpoint* resume, long max
       throw InputError((dir / "checkpoint.h5").string() + ": not a checkpoint of a wear run");
     at_slab = *resume->wear;
     at_slab->worn = slab_of(hs, resume->wear->worn);
-    at_slab->warm.pressure = slab_of(hs, resume->wear->warm.pressure);
-    at_slab->warm.corrective = slab_of(hs, resume->wear->warm.corrective);
+    at_slab->warm = resume->wear->warm.mapped([&](const Field& x) { return slab_of(hs, x); });
     at = &*at_slab;
     model.surface = resume->surface;
     stepper.restore(slab_of(hs, resume->state), slab_of(hs, resume->memory));

@@ -201,7 +201,8 @@ WearCycle WearCycles::carried(double N) {
   return c;
 }
 
-// The normal solve starts from the last evaluation's pressure. On a loop that closes at once
+// The normal solve starts from the recent evaluations' pressures extrapolated to `worn`
+// (WearWarmStart::start_for). On a loop that closes at once
 // the virgin step starts from the Ciavarella–Jäger superposition (superpose_virgin) and the
 // loop's steps at the turning loads from Masing's image of the first turning point. The image's
 // slip is -2 times the virgin step's, so it meets the solver's stopping rule in one product
@@ -209,10 +210,10 @@ WearCycle WearCycles::carried(double N) {
 // few iterations from the answer (rough_fretting_wear.ini, n = 128: 1 and 7 products for the
 // loop's two steps against 53 and 54 from the previous step's end).
 WearCycle WearCycles::steady(double N, const Field& worn) {
-  fresh(worn, warm_.pressure);
+  fresh(worn, warm_.start_for(worn, comm()));
   stepper_.set_wear_cycle(N);  // named in a solver failure's message
   step(initial_, 0.0, false);
-  warm_.pressure = stepper_.state().pressure;
+  warm_.remember(worn, stepper_.state().pressure);
   if (masing_) superpose_virgin();
   for (const auto& ls : virgin_) step(ls, 0.0, false);
   superposed_.clear();

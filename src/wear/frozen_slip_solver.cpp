@@ -27,7 +27,13 @@ int frozen_solve(SUNLinearSolver S, SUNMatrix, N_Vector x, N_Vector b, realtype 
   auto& c = *static_cast<FrozenSlipContent*>(S->content);
   realtype gamma = 0.0;
   ARKStepGetCurrentGamma(c.arkode, &gamma);
-  return newton_matrix_solve(*c.data, b, x, gamma, delta) == 0 ? 0 : SUNLS_PSOLVE_FAIL_UNREC;
+  if (newton_matrix_solve(*c.data, b, x, gamma, delta) != 0) return SUNLS_PSOLVE_FAIL_UNREC;
+  // The Newton iterate z + x is evaluated next (or, converged, is the stage value the next
+  // stage's predictor or the next step's first stage starts from): its pressure is about the
+  // linearisation's p + q, exact on an unchanged contact set.
+  const WearPreconditioner& pre = *c.data->pre;
+  if (pre.ready()) c.data->cyc.predict(slab(*c.data, x), pre.pressure_change());
+  return 0;
 }
 
 int frozen_free(SUNLinearSolver S) {

@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "fretbem/history/stepper.hpp"
+#include "fretbem/wear/warm_start.hpp"
 
 namespace fretbem {
 
@@ -72,13 +73,6 @@ struct WearCounters {
   int evaluations = 0;     ///< simulated-cycle evaluations (wear maps)
   int rows = 0;            ///< rows emitted to the observers (timeseries.csv)
   int index = 0;           ///< simulated-cycle index (the integer part of a row's time)
-};
-
-/// Where a wear-map evaluation (WearCycles::steady) starts its normal-type solves: the last
-/// evaluation's pressure (Pa) and the corrective pressure p* of its virgin loading (Pa,
-/// Ciavarella–Jäger; empty where the loop is not Masing's). Empty: cold.
-struct WearWarmStart {
-  Field pressure, corrective;
 };
 
 /// Where a wear run stands after a finished wear step — a simulated cycle (cycle mode) or an
@@ -163,9 +157,15 @@ class WearCycles {
   /// starts cold); the stepper state was restored by the caller, and the surface changed since
   /// its last normal solve (cycle mode applies a cycle's wear before every checkpoint).
   void resume(const WearCounters& c, const WearWarmStart& warm = {});
-  /// What the next steady() starts its normal-type solves from: the last steady()'s (empty
-  /// before the first). The worn surface moves little between evaluations.
+  /// What the next steady() starts its normal-type solves from: the recent steady()s' worn
+  /// depths and pressures (empty before the first). The worn surface moves little between
+  /// evaluations.
   const WearWarmStart& warm_start() const { return warm_; }
+  /// The next steady() is expected on the last one's worn depth moved by `worn_change` (m),
+  /// with its pressure moved by about `pressure_change` (Pa): a point of its start's fit.
+  void predict(const Field& worn_change, const Field& pressure_change) {
+    warm_.predict(worn_change, pressure_change);
+  }
 
  private:
   void fresh(const Field& worn, const Field& pressure = Field());

@@ -40,6 +40,9 @@ class WearPreconditioner {
   void solve(const Field& b, double gamma, Field& x, double residual = 0.0);
 
   bool ready() const { return ready_; }
+  /// The last solve's q: the pressure change (Pa) of the linearised cycle when the worn depth
+  /// moves by its x (zero off the contact set). Empty before the first ready solve.
+  const Field& pressure_change() const { return q_; }
   /// Inner CG iterations (= convolutions) since construction.
   long iterations() const { return iterations_; }
 
