@@ -286,10 +286,10 @@ TEST(RunMpi, ResumeOnRanksEqualsUninterruptedRun) {
 }
 
 // load.interpolation = cubic on a table whose normal load varies (20 rows a period of the
-// sampled sine, two periods, F_z about 10 N on a steel sphere at n = 32): the three-point rule's
-// memory of the step before is per node, split in slabs like every field, and in the
-// checkpoint. Two ranks equal the serial run; stopped and resumed on two ranks, the
-// uninterrupted serial one.
+// sampled sine, two periods, F_z about 10 N on a steel sphere at n = 32), every row in the
+// default sub-steps (load.substeps): the three-point rule's memory of the step before is per
+// node, split in slabs like every field, and in the checkpoint. Two ranks equal the serial run;
+// stopped and resumed on two ranks, the uninterrupted serial one.
 TEST(RunMpi, CubicTableOnTwoRanksEqualsSerialAndResumes) {
   const fs::path d = scratch("run_mpi_cubic");
   const fs::path table = d / "table.csv";

@@ -109,8 +109,8 @@ StepRecord Stepper::advance(std::size_t k) {
   guess_continues_ = start != nullptr;
   if (start) guess_ = start;
   guess_predicted_ = guess_ && !start;
-  const bool controlled = model_.scenario.load.tolerance > 0.0;
-  const StepRecord rec = controlled && k > 0 ? advance_controlled(k) : advance(steps.at(k), int(k));
+  const bool substepped = model_.scenario.load.tolerance > 0.0 || fixed_substeps(model_) > 1;
+  const StepRecord rec = substepped && k > 0 ? advance_substepped(k) : advance(steps.at(k), int(k));
   guess_ = nullptr, guess_continues_ = false, guess_predicted_ = false;
   shortcut_ = false;
   if (!mp.virgin.empty() && mp.virgin[k])

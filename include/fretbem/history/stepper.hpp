@@ -119,14 +119,15 @@ class Stepper {
   const Field& local_surface();
   double highest(const Field& z) const;
 
-  // Error-controlled steps (load.tolerance; defined in step_control.cpp).
+  // Sub-stepped rows (load.substeps) and error-controlled steps (load.tolerance; defined in
+  // step_control.cpp).
   /// The step before the next one, as the embedded estimate reads it: per node its bound
   /// change (Pa) and booked slip (m), its duration and the next step's (periods).
   struct EstimateMemory {
     Field bound_change, slip;
     double span = 0.0, span_next = 0.0;
   };
-  StepRecord advance_controlled(std::size_t k);
+  StepRecord advance_substepped(std::size_t k);
   double solve_substeps(const LoadStep& a, const LoadStep& b, int m, int k, StepRecord& last);
   StepRecord estimated_substep(const LoadStep& ls, int k, double span);
   void estimate_step();
