@@ -105,7 +105,6 @@ StepRecord Stepper::advance_substepped(std::size_t k) {
   const auto conv0 = hs.convolutions();
   row_guess_ = guess_;
   substep_normal_iterations_ = substep_tangential_iterations_ = substep_coupling_iterations_ = 0;
-  substep_ = true;
   const int m = controlled ? substeps_for(span, error_rate_, tolerance) : fixed_substeps(model_);
   StepRecord last;
   const double error = solve_substeps(a, b, m, int(k), last);
@@ -115,10 +114,7 @@ StepRecord Stepper::advance_substepped(std::size_t k) {
     error_rate_ =
         error_rate_ < 0.0 ? rate : error_rate_ + std::min(span, 1.0) * (rate - error_rate_);
   }
-  substep_ = false;
   guess_ = row_guess_;
-  if (stiffness_wanted(model_, int(k), b.turning))
-    last.kx = model_.stiffness->solve(state_.state).kx;
   last.normal_iterations = substep_normal_iterations_;
   last.tangential_iterations = substep_tangential_iterations_;
   last.coupling_iterations = substep_coupling_iterations_;
@@ -145,12 +141,14 @@ double Stepper::solve_substeps(const LoadStep& a, const LoadStep& b, int m, int 
   for (int j = 1; j <= m; ++j) {
     const LoadStep ls = j == m ? b : interpolate_load(a, b, double(j) / m);
     guess_ = m == 1 ? row_guess_ : nullptr;
+    substep_ = j < m;  // the row's last sub-step ends at its row: kx and the edge check there
     last = controlled ? estimated_substep(ls, k, span) : advance(ls, k);
     work_error += last.step_error;
     substep_normal_iterations_ += last.normal_iterations;
     substep_tangential_iterations_ += last.tangential_iterations;
     substep_coupling_iterations_ += last.coupling_iterations;
   }
+  substep_ = false;
   const double periods = b.time - model_.path.steps.front().time;
   const double scale =
       std::max(dissipation_ / periods, (dissipation_ - dissipation0) / (b.time - a.time));

@@ -197,7 +197,9 @@ class Stepper {
   /// Coupling::coupled: tangential displacement (m) of the pressure at the end of the last
   /// step (the start of this one); empty until first needed (and after a restore).
   VecField pressure_slip_;
-  bool substep_ = false;  ///< advancing a sub-step of a row: no kx (the row's end computes it)
+  /// Advancing a sub-step of a row before its last: no kx and no edge-contact refusal (the
+  /// row's end has both).
+  bool substep_ = false;
   const VecField* row_guess_ = nullptr;  ///< the predictor of the row being subdivided
   int substep_normal_iterations_ = 0, substep_tangential_iterations_ = 0;
   int substep_coupling_iterations_ = 0;
