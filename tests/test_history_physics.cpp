@@ -48,13 +48,14 @@ fs::path varying_normal_table(int rows_per_period, double P, double mu, bool pre
 // by ~4x per halving of the step (the end-of-step traction alone gave -6.8, -4.1, -2.2, -1.1 %
 // at 16 ... 128 rows: first order). n = 48 (a = 12 cells): the comparison is one of time
 // discretisation on one grid, so the spatial resolution does not enter; measured orders 2.0-2.1.
+// One solve a row (load.substeps = 1): the discretisation whose order this is.
 TEST(Dissipation, SecondOrderUnderVaryingNormalLoad) {
   const double P = fretbem_test::unit_hertz_force(), mu = 0.5;
   std::vector<double> diff;
   for (int rows : {16, 32, 64, 128}) {
     const fs::path table = varying_normal_table(rows, P, mu);
-    const auto r =
-        fretbem_test::run_steps(sphere_scenario(48, "path = table\ntable = " + table.string()));
+    const auto r = fretbem_test::run_steps(
+        sphere_scenario(48, "path = table\nsubsteps = 1\ntable = " + table.string()));
     fs::remove(table);
     const fretbem_test::CycleEnergy e = fretbem_test::cycle_energy(r, 2);
     diff.push_back(e.nodal / e.loop - 1);
@@ -199,7 +200,8 @@ double proportional_traction_error(int rows, const std::string& coupling, double
   std::ostringstream ini;
   ini << "[material]\nE = 1\nnu = " << nu << "\nmu = " << mu << "\n[grid]\nn = " << n
       << "\nlength = 1\n[surface]\ntype = sphere\nradius = 1\n[load]\n"
-      << "path = table\ntable = " << table.string() << "\n[solver]\ntolerance = 1e-10\n"
+      << "path = table\nsubsteps = 1\ntable = " << table.string()
+      << "\n[solver]\ntolerance = 1e-10\n"
       << "stiffness = none\ncoupling = " << coupling << "\n";
   const auto r = fretbem_test::run_recorded<FinalState>(ini.str());
   fs::remove(table);
@@ -229,7 +231,8 @@ double proportional_traction_error(int rows, const std::string& coupling, double
 // 7.7e-4 (order 1.93) and 7.5e-3, 2.4e-3, 1.1e-3 (1.36). What remains is first order but
 // smaller: the initial contact, glued with no traction at P / 100, and the linearised
 // touching time (1.9e-4 at 256 rows, 9.7e-5 at 512 on the analogy). The bounds separate the
-// two: an order above 1.2 and, at 64 rows, a quarter of the glued error.
+// two: an order above 1.2 and, at 64 rows, a quarter of the glued error. One solve a row
+// (load.substeps = 1): the step is the row.
 TEST(Traction, ProportionalLoadingSecondOrderInTheStep) {
   for (const auto& [coupling, nu] : {std::pair<std::string, double>{"analogy", 0.3},
                                      std::pair<std::string, double>{"cerruti", 0.0}}) {

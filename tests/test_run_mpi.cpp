@@ -337,12 +337,12 @@ void expect_first_peak(const fs::path& serial, const fs::path& dir) {
 }  // namespace
 
 // load.interpolation = cubic on a table whose normal load varies (20 rows a period of the
-// sampled sine, two periods, F_z about 10 N on a steel sphere at n = 32): the three-point rule's
-// memory of the step before is per node, split in slabs like every field, and in the
-// checkpoint. Two ranks equal the serial run; stopped and resumed on two ranks, the
-// uninterrupted serial one; stopped on two ranks after the period's second turning point of
-// |F_x| = 0.5 mu P (t = 1) and resumed serially, too: the cycle's rows come from both layouts,
-// its peak is still the serial run's row.
+// sampled sine, two periods, F_z about 10 N on a steel sphere at n = 32), every row in the
+// default sub-steps (load.substeps): the three-point rule's memory of the step before is per
+// node, split in slabs like every field, and in the checkpoint. Two ranks equal the serial run;
+// stopped and resumed on two ranks, the uninterrupted serial one; stopped on two ranks after the
+// period's second turning point of |F_x| = 0.5 mu P (t = 1) and resumed serially, too: the
+// cycle's rows come from both layouts, its peak is still the serial run's row.
 TEST(RunMpi, CubicTableOnTwoRanksEqualsSerialAndResumes) {
   const fs::path d = scratch("run_mpi_cubic");
   const std::string args = sine_table_scenario(d, 20, "cubic");

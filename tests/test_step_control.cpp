@@ -40,6 +40,8 @@ std::string varying_scenario(const fs::path& table, const std::string& extra_loa
 }
 
 constexpr double kMu = 0.5;
+// One solve a row (the discretisation the step control and the references are measured on).
+const std::string kOneSolve = "substeps = 1\n";
 double load_P() {
   return fretbem_test::unit_hertz_force();
 }
@@ -282,21 +284,23 @@ double spline_path_dissipation(int split, const std::string& interpolation) {
 // converge to the polygon's limit, which lies the polygon's sag away from it (-3.7e-2). One
 // solve a row is the same under both keys but for the work's quadrature: printed.
 TEST(LoadInterpolation, SubStepsFollowTheSplineNotTheLines) {
-  const double d8 = spline_path_dissipation(8, "cubic"), d16 = spline_path_dissipation(16, "cubic");
+  const double d8 = spline_path_dissipation(8, "cubic\nsubsteps = 1"),
+               d16 = spline_path_dissipation(16, "cubic\nsubsteps = 1");
   const double limit = d16 + (d16 - d8) / 3.0;
   const double cubic = spline_path_dissipation(1, "cubic\ntolerance = 1e-3") / limit - 1;
   const double linear = spline_path_dissipation(1, "linear\ntolerance = 1e-3") / limit - 1;
   std::printf(
       "spline path: 8 steps a row %.6e, 16 %.6e, limit %.6e J; load.tolerance = 1e-3: "
       "cubic %+.3e, linear %+.3e; one solve a row: cubic %+.3e, linear %+.3e\n",
-      d8, d16, limit, cubic, linear, spline_path_dissipation(1, "cubic") / limit - 1,
-      spline_path_dissipation(1, "linear") / limit - 1);
+      d8, d16, limit, cubic, linear, spline_path_dissipation(1, "cubic\nsubsteps = 1") / limit - 1,
+      spline_path_dissipation(1, "linear\nsubsteps = 1") / limit - 1);
   ASSERT_LT(std::abs(d16 / d8 - 1), 1e-4);
   EXPECT_LT(std::abs(cubic), 0.1 * std::abs(linear));
   EXPECT_GT(std::abs(linear), 1e-2);
 }
 
-// Resumed mid-period under the spline, with and without error-controlled sub-steps: the
+// Resumed mid-period under the spline, in the default sub-steps (load.substeps) and in
+// error-controlled ones: the
 // three-point rule's memory of the step before (step_before.cpp) is in the checkpoint, so the
 // rows are the uninterrupted run's byte for byte, but for `convolutions` (the cycle
 // predictor's warm starts are not all checkpointed).
@@ -358,13 +362,13 @@ TEST(StepControl, TrapezoidErrorIsExactForAQuadraticBoundAndLinearSlipRate) {
 // The 16 rows alone miss 1e-3 (the slip lost where the slip zone stops within a step); with
 // load.tolerance = 1e-3 they meet it, and write the same 16 rows a period.
 TEST(StepControl, MeetsTheAskedToleranceAgainstTheStepLimit) {
-  const double d16 = second_period_dissipation(16, 16, ""),
-               d32 = second_period_dissipation(16, 32, "");
+  const double d16 = second_period_dissipation(16, 16, kOneSolve),
+               d32 = second_period_dissipation(16, 32, kOneSolve);
   const double limit = d32 + (d32 - d16) / 3.0;
   std::printf("second period: split 16 %.6e, split 32 %.6e, limit %.6e J\n", d16, d32, limit);
   ASSERT_LT(std::abs(d32 / d16 - 1), 1e-4);
   std::size_t fixed_rows = 0, controlled_rows = 0;
-  const double fixed = second_period_dissipation(16, 1, "", &fixed_rows);
+  const double fixed = second_period_dissipation(16, 1, kOneSolve, &fixed_rows);
   const double controlled =
       second_period_dissipation(16, 1, "tolerance = 1e-3\n", &controlled_rows);
   std::printf("16 rows: fixed %+.3e, load.tolerance = 1e-3 %+.3e against the limit\n",
@@ -377,12 +381,12 @@ TEST(StepControl, MeetsTheAskedToleranceAgainstTheStepLimit) {
 // A ten times tighter tolerance is met too, against the same limit; the fixed splits and the
 // controlled runs print their convolutions (docs/algorithms.md, "Run time against error").
 TEST(StepControl, MeetsATenTimesTighterTolerance) {
-  const double d16 = second_period_dissipation(16, 16, ""),
-               d32 = second_period_dissipation(16, 32, "");
+  const double d16 = second_period_dissipation(16, 16, kOneSolve),
+               d32 = second_period_dissipation(16, 32, kOneSolve);
   const double limit = d32 + (d32 - d16) / 3.0;
   for (int split : {1, 2, 4}) {
     long conv = 0;
-    const double d = second_period_dissipation(16, split, "", nullptr, &conv);
+    const double d = second_period_dissipation(16, split, kOneSolve, nullptr, &conv);
     std::printf("split %d: %+.3e, %ld convolutions\n", split, d / limit - 1, conv);
   }
   long conv = 0;
@@ -504,13 +508,13 @@ double cerruti_displacement_dissipation(int split, const std::string& extra_load
 // the asked 1e-3 is met against the split table's limit (Richardson from 8 and 16 rows per
 // row), and every row stays within the Coulomb limit, its dissipation never decreasing.
 TEST(StepControl, MeetsTheToleranceUnderDisplacementControlWithCerruti) {
-  const double d8 = cerruti_displacement_dissipation(8, ""),
-               d16 = cerruti_displacement_dissipation(16, "");
+  const double d8 = cerruti_displacement_dissipation(8, kOneSolve),
+               d16 = cerruti_displacement_dissipation(16, kOneSolve);
   const double limit = d16 + (d16 - d8) / 3.0;
   // The reference is off by at most its Richardson correction, if the order were wrong: a
   // tenth of the asked tolerance at most.
   ASSERT_LT(std::abs(limit / d16 - 1), 1e-4);
-  const double fixed = cerruti_displacement_dissipation(1, "");
+  const double fixed = cerruti_displacement_dissipation(1, kOneSolve);
   const double controlled = cerruti_displacement_dissipation(1, "tolerance = 1e-3\n");
   std::printf("8 rows: fixed %+.3e, load.tolerance = 1e-3 %+.3e against the limit %.6e J\n",
               fixed / limit - 1, controlled / limit - 1, limit);

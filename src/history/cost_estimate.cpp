@@ -9,6 +9,7 @@
 #include "fretbem/core/progress.hpp"
 #include "fretbem/history/masing_image.hpp"
 #include "fretbem/history/model.hpp"
+#include "fretbem/history/step_control.hpp"
 #include "fretbem/history/stepper.hpp"
 
 namespace fretbem {
@@ -82,9 +83,13 @@ std::vector<double> step_cost_shares(const Model& model) {
   std::vector<double> share(steps);
   for (std::size_t i = 0; i < steps; ++i) {
     const bool imaged = !masing.image.empty() && masing.image[i];
-    share[i] = seen[i] || (imaged && i > settled) ? kPredictedStepShare
-               : imaged || i > settled            ? kSettledStepShare
-                                                  : 1.0;
+    // A row in sub-steps is that many steps, none started by a predictor (each starts from the
+    // sub-step before).
+    const int m = row_substeps(model, i);
+    share[i] = m > 1                                ? m * (i > settled ? kSettledStepShare : 1.0)
+               : seen[i] || (imaged && i > settled) ? kPredictedStepShare
+               : imaged || i > settled              ? kSettledStepShare
+                                                    : 1.0;
   }
   return share;
 }
@@ -113,9 +118,10 @@ RunCostEstimate estimate_run_cost(const Scenario& sc) {
       break;
     }
   }
-  const std::size_t calibrated = k - 1;  // tangential steps solved
+  double calibrated = 0.0;  // tangential steps solved, a row's sub-steps each
+  for (std::size_t i = 1; i < k; ++i) calibrated += row_substeps(*model, i);
   e.calibration_steps = int(k);
-  const double per_step = calibrated > 0 ? tangential / double(calibrated) : 0.0;
+  const double per_step = calibrated > 0 ? tangential / calibrated : 0.0;
   const std::vector<double> share = step_cost_shares(*model);
   double remaining = 0.0;  // remaining steps weighted by their cost relative to the calibrated
   for (std::size_t i = k; i < steps; ++i) remaining += share[i];

@@ -1,11 +1,13 @@
-// Error-controlled rows: every step carries an embedded estimate of its error in the work (the
-// trapezoid's error from the bound's and slip's differences across neighbouring steps); a row
-// whose normal load changes is solved in equal sub-steps, as many as the estimate's running
-// rate asks for by its order (a period's error ~ rate x h^2 in sub-steps of h periods). The
-// rate, not each row's own estimate, sets the sub-steps: the rows' errors in the dissipation
-// cancel over a cycle (displacement control at 32 rows a period: rows off by up to 2 % of the
-// cycle's energy, the cycle by 1.4e-4), and sub-steps placed where rows' estimates peaked
-// missed a tolerance of 1e-4 that cheaper uniform steps met (docs/algorithms.md).
+// Sub-stepped rows: without load.tolerance a row whose normal load changes is solved in
+// load.substeps equal sub-steps along its path. Error-controlled rows: every step carries an
+// embedded estimate of its error in the work (the trapezoid's error from the bound's and slip's
+// differences across neighbouring steps); a row whose normal load changes is solved in equal
+// sub-steps, as many as the estimate's running rate asks for by its order (a period's error ~ rate
+// x h^2 in sub-steps of h periods). The rate, not each row's own estimate, sets the sub-steps: the
+// rows' errors in the dissipation cancel over a cycle (displacement control at 32 rows a period:
+// rows off by up to 2 % of the cycle's energy, the cycle by 1.4e-4), and sub-steps placed where
+// rows' estimates peaked missed a tolerance of 1e-4 that cheaper uniform steps met
+// (docs/algorithms.md).
 #include "fretbem/history/step_control.hpp"
 
 #include <algorithm>
@@ -29,6 +31,16 @@ namespace {
 constexpr double kMeasuredOverestimate = 3.0;
 
 }  // namespace
+
+int fixed_substeps(const Model& model) {
+  const LoadSpec& load = model.scenario.load;
+  return load.tolerance > 0.0 || model.wear ? 1 : load.substeps;
+}
+
+int row_substeps(const Model& model, std::size_t k) {
+  const std::vector<LoadStep>& steps = model.path.steps;
+  return k > 0 && bound_moves_within(steps.at(k - 1), steps.at(k)) ? fixed_substeps(model) : 1;
+}
 
 bool bound_moves_within(const LoadStep& a, const LoadStep& b) {
   return a.normal.force_control == b.normal.force_control && a.normal.value != b.normal.value &&
@@ -73,14 +85,18 @@ int substeps_for(double span, double rate, double tolerance) {
   return int(std::clamp(std::ceil(wanted), 1.0, double(kMaxSubsteps)));
 }
 
-// Row k in the sub-steps the running estimate asks for. The row's record is that of its last
-// sub-step, with the work of every sub-step in its iteration and convolution counts and the
-// sum of their estimates in step_error.
-StepRecord Stepper::advance_controlled(std::size_t k) {
+// Row k in sub-steps: as many as the running estimate asks for under load.tolerance, else
+// fixed_substeps. The row's record is that of its last sub-step, with the work of every
+// sub-step in its iteration and convolution counts and the sum of their estimates in
+// step_error.
+StepRecord Stepper::advance_substepped(std::size_t k) {
   const LoadStep& a = model_.path.steps.at(k - 1);
   const LoadStep& b = model_.path.steps.at(k);
   const double span = b.time - a.time;
+  const double tolerance = model_.scenario.load.tolerance;
+  const bool controlled = tolerance > 0.0;
   if (!bound_moves_within(a, b)) {  // the step does not matter: nothing to estimate
+    if (!controlled) return advance(b, int(k));
     StepRecord r = estimated_substep(b, int(k), span);
     r.step_error = 0.0;
     return r;
@@ -89,18 +105,16 @@ StepRecord Stepper::advance_controlled(std::size_t k) {
   const auto conv0 = hs.convolutions();
   row_guess_ = guess_;
   substep_normal_iterations_ = substep_tangential_iterations_ = substep_coupling_iterations_ = 0;
-  substep_ = true;
-  const double tolerance = model_.scenario.load.tolerance;
-  const int m = substeps_for(span, error_rate_, tolerance);
+  const int m = controlled ? substeps_for(span, error_rate_, tolerance) : fixed_substeps(model_);
   StepRecord last;
   const double error = solve_substeps(a, b, m, int(k), last);
-  if (m == kMaxSubsteps && error > tolerance * span) say_depth_limit(int(k), error, span);
-  const double h = span / m, rate = error / (span * h * h);
-  error_rate_ = error_rate_ < 0.0 ? rate : error_rate_ + std::min(span, 1.0) * (rate - error_rate_);
-  substep_ = false;
+  if (controlled) {
+    if (m == kMaxSubsteps && error > tolerance * span) say_depth_limit(int(k), error, span);
+    const double h = span / m, rate = error / (span * h * h);
+    error_rate_ =
+        error_rate_ < 0.0 ? rate : error_rate_ + std::min(span, 1.0) * (rate - error_rate_);
+  }
   guess_ = row_guess_;
-  if (stiffness_wanted(model_, int(k), b.turning))
-    last.kx = model_.stiffness->solve(state_.state).kx;
   last.normal_iterations = substep_normal_iterations_;
   last.tangential_iterations = substep_tangential_iterations_;
   last.coupling_iterations = substep_coupling_iterations_;
@@ -110,8 +124,8 @@ StepRecord Stepper::advance_controlled(std::size_t k) {
 }
 
 // Row a -> b in m equal sub-steps; leaves `last` the last sub-step's record and returns the
-// sum of their estimates relative to the dissipation scale: the mean dissipation per period
-// so far, or the row's own per period when larger.
+// sum of their estimates (under load.tolerance; else 0) relative to the dissipation scale: the
+// mean dissipation per period so far, or the row's own per period when larger.
 // A row solved whole keeps the start the row would have without the key (the cycle
 // predictor's traction one cycle earlier); sub-steps all start from the sub-step before, 1/m
 // of the row away. The predictor's start is not converged where the normal load varies (its
@@ -122,16 +136,19 @@ StepRecord Stepper::advance_controlled(std::size_t k) {
 double Stepper::solve_substeps(const LoadStep& a, const LoadStep& b, int m, int k,
                                StepRecord& last) {
   const double dissipation0 = dissipation_, span = (b.time - a.time) / m;
+  const bool controlled = model_.scenario.load.tolerance > 0.0;
   double work_error = 0.0;
   for (int j = 1; j <= m; ++j) {
     const LoadStep ls = j == m ? b : interpolate_load(a, b, double(j) / m);
     guess_ = m == 1 ? row_guess_ : nullptr;
-    last = estimated_substep(ls, k, span);
+    substep_ = j < m;  // the row's last sub-step ends at its row: kx and the edge check there
+    last = controlled ? estimated_substep(ls, k, span) : advance(ls, k);
     work_error += last.step_error;
     substep_normal_iterations_ += last.normal_iterations;
     substep_tangential_iterations_ += last.tangential_iterations;
     substep_coupling_iterations_ += last.coupling_iterations;
   }
+  substep_ = false;
   const double periods = b.time - model_.path.steps.front().time;
   const double scale =
       std::max(dissipation_ / periods, (dissipation_ - dissipation0) / (b.time - a.time));

@@ -164,6 +164,13 @@ const std::vector<Rule>& rules() {
       {"load.steps_per_cycle", unless_path(PathType::sine)},
       {"load.steps", unless_path(PathType::ramp)},
       {"load.table", unless_path(PathType::table)},
+      {"load.substeps",
+       [](const Scenario& sc) -> std::string {
+         if (sc.load.path != PathType::table) return unless_path(PathType::table)(sc);
+         if (sc.load.tolerance > 0.0)
+           return "read only without load.tolerance (the step control sets the sub-steps)";
+         return wear_run(sc) ? "wear runs solve a table's rows whole" : "";
+       }},
       {"load.interpolation",
        [](const Scenario& sc) -> std::string {
          if (sc.load.path != PathType::table) return unless_path(PathType::table)(sc);

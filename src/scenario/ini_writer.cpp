@@ -105,6 +105,7 @@ void write_load(IniWriter& w, const LoadSpec& l) {
   w.put("table", l.table);
   w.put("allow_large_shift", l.allow_large_shift);
   w.put("tolerance", l.tolerance);
+  w.put("substeps", l.substeps);
   w.put_choice("load.interpolation", l.interpolation);
 }
 

@@ -103,6 +103,11 @@ std::vector<ScenarioKey> make_table() {
       boolean("load.allow_large_shift", "run tangential shifts past one contact radius"),
       real("load.tolerance", "1", 0.0, false, 0.1, false, "0",
            "relative error per period of steps whose normal load changes; 0: off"),
+      // 4: the fewest that meet 5e-4 of the step limit at 32 rows a period on the sphere,
+      // displacement and rough benches under either interpolation (docs/algorithms.md); at
+      // most the step control's 256 a row (kMaxSubsteps, history/step_control.hpp).
+      integer("load.substeps", 1, 256, "4",
+              "equal solves a row whose normal load changes (no load.tolerance); 1: one"),
       choice("load.interpolation", {"linear", "cubic"}, "linear",
              "table: load between rows on straight lines or a not-a-knot cubic spline"),
       // Below 1e-14 no solve can get: round-off of the double sums over the grid leaves

@@ -183,6 +183,7 @@ void read_load_values(const Reader& r, const fs::path& base, LoadSpec& l) {
   if (r.has("load.table")) l.table = r.path("load.table", base, l.path == PathType::table);
   if (r.has("load.allow_large_shift")) l.allow_large_shift = r.boolean("load.allow_large_shift");
   if (r.has("load.tolerance")) l.tolerance = r.number("load.tolerance");
+  if (r.has("load.substeps")) l.substeps = static_cast<int>(r.count("load.substeps"));
   if (r.has("load.interpolation"))
     l.interpolation = static_cast<LoadInterpolation>(r.option("load.interpolation"));
 }
@@ -361,11 +362,16 @@ void check_wear_friction(const Reader& r, const WearSpec& w, const FrictionSpec&
                  "wear map restarts the friction evolution in every evaluation)");
 }
 
-// Error-controlled steps re-solve a row's load from its start state; the wear integrators
-// restore and replay rows on frozen surfaces with their own step control (docs/wear.md).
-void check_wear_load_tolerance(const Reader& r, const WearSpec& w, const LoadSpec& l) {
-  if (w.law != WearLaw::none && l.tolerance > 0.0)
+// Error-controlled steps and sub-steps re-solve a row's load from its start state; the wear
+// integrators restore and replay rows on frozen surfaces with their own step control
+// (docs/wear.md): a wear run solves its rows whole.
+void check_wear_load_steps(const Reader& r, const WearSpec& w, LoadSpec& l) {
+  if (w.law == WearLaw::none) return;
+  if (l.tolerance > 0.0)
     r.fail_value("load.tolerance", "is not supported in wear runs (wear.law is not none); use 0");
+  if (r.has("load.substeps") && l.substeps > 1)
+    r.fail_value("load.substeps", "is not supported in wear runs (wear.law is not none); use 1");
+  l.substeps = 1;
 }
 
 }  // namespace fretbem::scenario_detail

@@ -23,8 +23,9 @@ void read_wear(const Reader& r, WearSpec& w);
 void read_friction(const Reader& r, const LoadSpec& l, double mu, FrictionSpec& f);
 /// Combinations of friction law and wear integrator that a wear run cannot honour.
 void check_wear_friction(const Reader& r, const WearSpec& w, const FrictionSpec& f);
-/// load.tolerance > 0 in a wear run: refused, naming the key.
-void check_wear_load_tolerance(const Reader& r, const WearSpec& w, const LoadSpec& l);
+/// load.tolerance > 0 or an explicit load.substeps > 1 in a wear run: refused, naming the key;
+/// a wear run's rows are solved whole (load.substeps = 1).
+void check_wear_load_steps(const Reader& r, const WearSpec& w, LoadSpec& l);
 
 /// The resolved scenario as INI text: every key with its final value, unset ones as comments.
 std::string resolved_text(const Scenario& s);

@@ -4,8 +4,8 @@
 Usage: row_work_attribution.py FRETBEM CASE [--rows N] [--split S]
 
 CASE as in step_control_cost.py (sphere, displacement, rough): the table sampled at N rows a
-period is run as it is (one step a row) and with every row split in S equal rows (the same
-piecewise-linear path), both saving the dissipation, state and pressure fields at every
+period is run as it is (one step a row, load.substeps = 1) and with every row split in S equal
+rows (the same piecewise-linear path), both saving the dissipation, state and pressure fields at every
 step. Over the third period, each row's nodal work of the one-step run minus the reference's
 over the same row ends is summed by the node's class in the one-step run: slipping at both
 row ends (the trapezoid of the bound), starting to slip in the row (its end bound), losing

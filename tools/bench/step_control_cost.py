@@ -2,7 +2,8 @@
 """Run time against error: fixed steps against error-controlled steps (load.tolerance).
 
 Usage: step_control_cost.py FRETBEM CASE [--rows N] [--splits 1,2,4,8] [--tolerances ...]
-                             [--limit J] [--interpolation linear|cubic]
+                             [--limit J] [--interpolation linear|cubic] [--substeps K]
+                             [--substeps-runs R1,R2,...]
 
 CASE: sphere (mindlin_cycle.ini's sphere at n = 96 under F_z = P (1 + 0.3 sin 2 pi t),
 F_x = 0.5 mu P cos 2 pi t, P = 10 N), displacement (the same F_z, U_x = 80 nm cos 2 pi t, n = 48)
@@ -16,6 +17,11 @@ dissipation is Richardson (order 2) from the two largest splits. Error-controlle
 N-row table with load.tolerance. Per run: the third period's dissipated_energy, its error
 against the limit, the CPU seconds of the run (user + system), the convolutions of the run and
 the cycle's step_error. Prints CSV.
+Fixed runs solve each row once (load.substeps = 1); with --substeps K[,K2,...] every row
+whose normal load changes in K sub-steps, one run per split and K (made also with --limit, and
+scored against it): N s rows a period of K steps each, the path in N s K steps a period.
+Under --interpolation cubic, --splits 1 --substeps K needs no scipy: the N-row spline in K
+steps a row is the split path's.
 With --interpolation cubic every run sets load.interpolation = cubic, and the split rows are
 sampled from the not-a-knot spline of the N-row table (scipy's CubicSpline), which is the
 spline of the split table too: every split is the same smooth path, in N s steps a period.
@@ -62,7 +68,7 @@ def write_table(path, case, rows, split, cubic=False):
     P, amp = c["P"], c["amplitude"](c["P"], MU)
     fz = lambda t: P * (1 + 0.3 * math.sin(2 * math.pi * t))
     ft = lambda t: amp * math.cos(2 * math.pi * t)
-    sz, st = spline_of_rows(rows, fz, ft) if cubic else (None, None)
+    sz, st = spline_of_rows(rows, fz, ft) if cubic and split > 1 else (None, None)
     with open(path, "w") as f:
         f.write("time,Fz,%s\n" % c["column"])
         t0 = -0.25
@@ -81,7 +87,7 @@ def write_table(path, case, rows, split, cubic=False):
                 f.write("%.17g,%.17g,%.17g\n" % (t, z, x))
 
 
-def write_scenario(path, case, table, tolerance, cubic=False):
+def write_scenario(path, case, table, tolerance, cubic=False, substeps=1):
     c = CASES[case]
     with open(path, "w") as f:
         f.write("[material]\nE = 210e9\nnu = 0.3\nmu = %g\n" % MU)
@@ -92,16 +98,18 @@ def write_scenario(path, case, table, tolerance, cubic=False):
             f.write("control = displacement\n")
         if tolerance:
             f.write("tolerance = %g\n" % tolerance)
+        else:
+            f.write("substeps = %d\n" % substeps)
         if cubic:
             f.write("interpolation = cubic\n")
         f.write("[solver]\nstiffness = none\n" + c.get("solver", ""))
 
 
-def run(binary, work, case, rows, split, tolerance, cubic=False):
-    tag = "%s_%d_%d_%g" % (case, rows, split, tolerance)
+def run(binary, work, case, rows, split, tolerance, cubic=False, substeps=1):
+    tag = "%s_%d_%d_%g_%d" % (case, rows, split, tolerance, substeps)
     table, ini, out = (os.path.join(work, tag + e) for e in (".csv", ".ini", "_out"))
     write_table(table, case, rows, split, cubic)
-    write_scenario(ini, case, table, tolerance, cubic)
+    write_scenario(ini, case, table, tolerance, cubic, substeps)
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     subprocess.run([binary, "run", ini, "--out", out, "--quiet"], check=True,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -123,26 +131,31 @@ def main():
     ap.add_argument("--tolerances", default="1e-2,1e-3,5e-4,1e-4")
     ap.add_argument("--limit", type=float, help="known step limit (J): no fixed runs")
     ap.add_argument("--interpolation", choices=["linear", "cubic"], default="linear")
+    ap.add_argument("--substeps", default="1", help="load.substeps of the fixed runs: K[,K2...]")
     a = ap.parse_args()
     cubic = a.interpolation == "cubic"
     splits = [int(s) for s in a.splits.split(",")]
     tols = [float(t) for t in a.tolerances.split(",") if t]
     with tempfile.TemporaryDirectory() as work:
-        fixed = {} if a.limit else {s: run(a.fretbem, work, a.case, a.rows, s, 0.0, cubic)
-                                    for s in splits}
+        ks = [int(k) for k in a.substeps.split(",")]
+        fixed = {} if a.limit and ks == [1] else {
+            (s, k): run(a.fretbem, work, a.case, a.rows, s, 0.0, cubic, k)
+            for s in splits for k in ks}
         if a.limit:
             limit = a.limit
             print("# %s, %d rows a period; limit %.6e J (given)" % (a.case, a.rows, limit))
         else:
-            d1, d2 = fixed[splits[-2]][0], fixed[splits[-1]][0]
+            (s1, k1), (s2, k2) = list(fixed)[-2:]
+            d1, d2 = fixed[s1, k1][0], fixed[s2, k2][0]
             limit = d2 + (d2 - d1) / 3.0
-            print("# %s, %d rows a period; limit %.6e J (Richardson from splits %d, %d)"
-                  % (a.case, a.rows, limit, splits[-2], splits[-1]))
+            print("# %s, %d rows a period; limit %.6e J (Richardson from %d and %d steps a row)"
+                  % (a.case, a.rows, limit, s1 * k1, s2 * k2))
         print("run,rows_per_period,dissipated_energy,error,cpu_s,convolutions,step_error")
-        for s in fixed:
-            d, cpu, conv, est = fixed[s]
-            print("fixed,%d,%.6e,%+.2e,%.1f,%d,%.2e" % (a.rows * s, d, d / limit - 1, cpu, conv,
-                                                        est))
+        for s, k in fixed:
+            d, cpu, conv, est = fixed[s, k]
+            label = "fixed" if k == 1 else "substeps %d" % k
+            print("%s,%d,%.6e,%+.2e,%.1f,%d,%.2e" % (label, a.rows * s, d, d / limit - 1, cpu,
+                                                     conv, est))
             sys.stdout.flush()
         for t in tols:
             d, cpu, conv, est = run(a.fretbem, work, a.case, a.rows, 1, t, cubic)

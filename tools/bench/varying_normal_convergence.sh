@@ -3,7 +3,8 @@
 # "A moving bound within a step"): the sphere of mindlin_cycle.ini at n = 96 under
 # F_z = P (1 + 0.3 sin 2 pi t), F_x = 0.5 mu P cos 2 pi t (P = 10 N, mu = 0.5), a table from
 # t = -1/4 (F_x = 0) over three periods; prints, per steps-per-period count, the third
-# period's dissipated_energy and loop_area (cycles.csv, cycle 2) and the CPU seconds.
+# period's dissipated_energy and loop_area (cycles.csv, cycle 2) and the CPU seconds. One
+# solve a row (load.substeps = 1; `-- --set load.substeps=K` for K sub-steps a row).
 # Usage: tools/bench/varying_normal_convergence.sh FRETBEM ROWS_PER_PERIOD... [-- --set k=v ...]
 set -euo pipefail
 bin=$1; shift
@@ -35,6 +36,7 @@ radius = 0.01
 [load]
 path = table
 table = t$N.csv
+substeps = 1
 [solver]
 stiffness = none
 INI

@@ -107,12 +107,15 @@ inline constexpr double kPredictedStepShare = 0.04;
 /// Each step's cost relative to a first tangential step (step 0 counts 1 too): 1 up to the
 /// path's second turning point, kSettledStepShare after it, kPredictedStepShare where the
 /// cycle predictor starts the step; a step the Masing image starts counts kSettledStepShare
-/// before the second turning point and kPredictedStepShare after it. What the estimate extrapolates
-/// with and what a run's progress ETA counts on.
+/// before the second turning point and kPredictedStepShare after it; a row solved in m
+/// sub-steps (row_substeps, history/step_control.hpp) counts m x (1 or kSettledStepShare), no
+/// predictor starting them. What the estimate extrapolates with and what a run's progress ETA
+/// counts on.
 std::vector<double> step_cost_shares(const Model& model);
 
 /// Builds the model (operators included), solves the first steps and extrapolates: the
-/// convolutions of step 0 plus the mean of the calibrated tangential steps times the steps
+/// convolutions of step 0 plus the mean of the calibrated tangential steps (a row's sub-steps
+/// each) times the steps
 /// left (those past the second turning point at kSettledStepShare); seconds = convolutions x
 /// the calibration's CPU seconds per convolution. Writes no file. Not for wear runs
 /// (estimate_wear_cost).

@@ -1,18 +1,29 @@
-// Error-controlled load steps (load.tolerance): where the normal load changes over a row, the
-// Coulomb bound mu p moves within it and the increment depends on the step. Every solved step
+// Sub-steps of rows whose normal load changes: there the Coulomb bound mu p moves within the
+// row and the increment depends on the step. Without load.tolerance such a row is solved in
+// load.substeps equal sub-steps; with it (error-controlled load steps) every solved step
 // carries an embedded estimate of its error in the work, from the bound and slip of this step
-// and the one before (no second solve); a row whose normal load changes is solved in as many
-// equal sub-steps as the estimate's running rate and order ask for. Sub-steps are internal: a
-// row of the path stays one output row (docs/algorithms.md, "Error-controlled load steps").
+// and the one before (no second solve), and a row is solved in as many equal sub-steps as the
+// estimate's running rate and order ask for. Sub-steps are internal: a row of the path stays
+// one output row (docs/algorithms.md, "Sub-steps of a row" and "Error-controlled load steps").
 #pragma once
 
 #include "fretbem/contact/tangential_operator.hpp"
 #include "fretbem/history/load_path.hpp"
+#include "fretbem/history/model.hpp"
 
 namespace fretbem {
 
 /// Sub-steps of a row at most.
 constexpr int kMaxSubsteps = 256;
+
+/// The equal sub-steps of every row whose normal load changes when the step control is off:
+/// load.substeps, 1 with load.tolerance > 0 (the controller chooses) and in wear runs (their
+/// integrators replay rows whole).
+int fixed_substeps(const Model& model);
+
+/// The solves of path row k without load.tolerance: fixed_substeps where its normal load
+/// changes (bound_moves_within), else 1 (the initial loading, k = 0, included).
+int row_substeps(const Model& model, std::size_t k);
 
 /// Whether the bound can move within the step from a to b, so that the step's solution depends
 /// on its length: the normal load changes (same control of the normal load and of the

@@ -120,14 +120,15 @@ class Stepper {
   const Field& local_surface();
   double highest(const Field& z) const;
 
-  // Error-controlled steps (load.tolerance; defined in step_control.cpp).
+  // Sub-stepped rows (load.substeps) and error-controlled steps (load.tolerance; defined in
+  // step_control.cpp).
   /// The step before the next one, as the embedded estimate reads it: per node its bound
   /// change (Pa) and booked slip (m), its duration and the next step's (periods).
   struct EstimateMemory {
     Field bound_change, slip;
     double span = 0.0, span_next = 0.0;
   };
-  StepRecord advance_controlled(std::size_t k);
+  StepRecord advance_substepped(std::size_t k);
   double solve_substeps(const LoadStep& a, const LoadStep& b, int m, int k, StepRecord& last);
   StepRecord estimated_substep(const LoadStep& ls, int k, double span);
   void estimate_step();
@@ -201,7 +202,9 @@ class Stepper {
   /// Coupling::coupled: tangential displacement (m) of the pressure at the end of the last
   /// step (the start of this one); empty until first needed (and after a restore).
   VecField pressure_slip_;
-  bool substep_ = false;  ///< advancing a sub-step of a row: no kx (the row's end computes it)
+  /// Advancing a sub-step of a row before its last: no kx and no edge-contact refusal (the
+  /// row's end has both).
+  bool substep_ = false;
   const VecField* row_guess_ = nullptr;  ///< the predictor of the row being subdivided
   int substep_normal_iterations_ = 0, substep_tangential_iterations_ = 0;
   int substep_coupling_iterations_ = 0;

@@ -72,6 +72,10 @@ struct LoadSpec {
   /// changes may carry (history/step_control: an embedded estimate, sub-steps within the
   /// row); 0: one solve a row.
   double tolerance = 0.0;
+  /// load.substeps: without load.tolerance, the equal sub-steps in which each row whose normal
+  /// load changes is solved (history/step_control.hpp); 1: one solve a row. Wear runs solve
+  /// their rows whole (1).
+  int substeps = 4;
   /// load.interpolation: how a table's load runs between its rows: linear, or cubic (a
   /// not-a-knot spline through the rows, history/load_spline.hpp), which sub-steps follow and
   /// under which the work of nodes slipping through consecutive steps takes the three-point
