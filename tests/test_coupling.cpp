@@ -396,10 +396,9 @@ TEST(Coupling, NormalLoadingConvergesUnderRefinement) {
 // nodes stick. A normal ramp (F_z to the a = L/4 load in 4 rows, n = 32) at solver.tolerance =
 // 1e-10 and coupling_tolerance = 1e-8 must converge with the projected method alone: its
 // iteration cycled between 3 and 23 stick nodes when a projection raised the QP objective,
-// leaving the steps to the fallbacks. The resultant of the shear stays zero (symmetry). One
-// solve a row (load.substeps = 1): these four steps are the case; in the default 4 sub-steps
-// a row the sub-step ending at step 3 does not converge (residual 1.4e-2 after 2888
-// iterations), a case of its own.
+// leaving the steps to the fallbacks. The resultant of the shear stays zero (symmetry). Under
+// coupled the default is one solve a row (scenario/sections.cpp, default_coupled_load_steps):
+// the scenario leaves load.substeps out, as a user would.
 TEST(Coupling, TightTolerancesConvergeWhereTheShearSlidesNearlyEverywhere) {
   const Material m = steel_on_aluminium();
   const double Fz = hertz_force(m.E_star(), 0.25);
@@ -412,9 +411,8 @@ TEST(Coupling, TightTolerancesConvergeWhereTheShearSlidesNearlyEverywhere) {
   std::ostringstream mat;
   mat << "E = " << m.body1.E << "\nnu = " << m.body1.nu << "\nE2 = " << m.body2->E
       << "\nnu2 = " << m.body2->nu << "\nmu = 0.029";
-  const std::string text =
-      sphere(32, mat.str(), "path = table\nsubsteps = 1\ntable = " + table.string(),
-             "coupling = coupled\ncoupling_tolerance = 1e-8");
+  const std::string text = sphere(32, mat.str(), "path = table\ntable = " + table.string(),
+                                  "coupling = coupled\ncoupling_tolerance = 1e-8");
   auto model = build_model(parse_scenario(text, "test", fs::temp_directory_path()));
   Stepper stepper(*model);
   Recorder rec;

@@ -43,6 +43,13 @@ constexpr double kResumedKx = 1e3 * kSolverTolerance;
 // k_x within that tolerance of a tight solve, so two layouts may part by twice the floor (the
 // energy stop aims at 0.1 of it: measured 1.4e-10 on the 12-row cubic table below).
 constexpr double kLayoutKx = 2 * 1e-9;
+// Saved fields of a table run in the default sub-steps on another layout: each tangential solve
+// stops at relative residual kSolverTolerance, which leaves its traction within the condition
+// number (about 1e2, above) times that of the exact one; two layouts' round-off parts them by
+// that, carried on in the nodes' memory over four times the solves: 1e3 times the residual, as
+// for k_x of resumed runs (measured 1.8e-10 of the largest traction on the 20-row cubic table
+// below in 4 sub-steps a row, 1e-10 in one).
+constexpr double kSubstepFields = 1e3 * kSolverTolerance;
 
 // The solver's cost and accuracy columns (see the file's comment).
 bool solver_cost(const std::string& column) {
@@ -177,7 +184,8 @@ std::map<std::string, std::vector<double>> datasets(const fs::path& h5) {
 
 // timeseries.csv, cycles.csv and result.h5 of two run folders, to kRelative (k_x columns to
 // kx_bound).
-void expect_same_run(const fs::path& serial, const fs::path& mpi, double kx_bound = kRelative) {
+void expect_same_run(const fs::path& serial, const fs::path& mpi, double kx_bound = kRelative,
+                     double field_bound = kRelative) {
   expect_same_table(serial / "timeseries.csv", mpi / "timeseries.csv", kx_bound);
   expect_same_table(serial / "cycles.csv", mpi / "cycles.csv", kx_bound);
   const auto a = datasets(serial / "result.h5"), b = datasets(mpi / "result.h5");
@@ -187,6 +195,11 @@ void expect_same_run(const fs::path& serial, const fs::path& mpi, double kx_boun
     ASSERT_TRUE(b.count(name)) << mpi << ": no dataset " << name;
     // /timeseries holds the columns of /series/timeseries/NAME, compared one by one.
     if (name == "timeseries") continue;
+    const bool field = name.rfind("series/timeseries", 0) != 0;
+    if (field && field_bound > kRelative) {
+      EXPECT_LE(relative_difference(values, b.at(name)), field_bound) << mpi << ": " << name;
+      continue;
+    }
     expect_same_values(fs::path(name).filename().string(), values, b.at(name),
                        (mpi / "result.h5").string(), kx_bound);
   }
@@ -261,7 +274,8 @@ namespace {
 // Runs ARGS (which stop early) on `stopped_on` ranks into D/OUT, resumes it on `resumed_on`
 // (0: serially) and compares it with the uninterrupted serial run in D/serial.
 void stop_and_resume(const fs::path& d, const std::string& args, int stopped_on, int resumed_on,
-                     const std::string& out, double kx_bound = kResumedKx) {
+                     const std::string& out, double kx_bound = kResumedKx,
+                     double field_bound = kRelative) {
   const Result stopped = run(stopped_on, args, d, out);
   ASSERT_EQ(stopped.status, 0) << stopped.err;
   ASSERT_TRUE(fs::exists(d / out / "checkpoint.h5"));
@@ -269,7 +283,7 @@ void stop_and_resume(const fs::path& d, const std::string& args, int stopped_on,
   const Result r =
       shell(launcher + FRETBEM_BINARY + " run --quiet --resume " + (d / out).string(), d);
   ASSERT_EQ(r.status, 0) << r.err;
-  expect_same_run(d / "serial", d / out, kx_bound);
+  expect_same_run(d / "serial", d / out, kx_bound, field_bound);
 }
 
 }  // namespace
@@ -350,9 +364,11 @@ TEST(RunMpi, CubicTableOnTwoRanksEqualsSerialAndResumes) {
   ASSERT_EQ(s.status, 0) << s.err;
   const Result m = run(2, args, d, "mpi");
   ASSERT_EQ(m.status, 0) << m.err;
-  expect_same_run(d / "serial", d / "mpi", kLayoutKx);
-  stop_and_resume(d, args + " --stop-after 11", 2, 2, "stopped2_resumed2", kLayoutKx);
-  stop_and_resume(d, args + " --stop-after 21", 2, 0, "stopped2_resumed0", kLayoutKx);
+  expect_same_run(d / "serial", d / "mpi", kLayoutKx, kSubstepFields);
+  stop_and_resume(d, args + " --stop-after 11", 2, 2, "stopped2_resumed2", kLayoutKx,
+                  kSubstepFields);
+  stop_and_resume(d, args + " --stop-after 21", 2, 0, "stopped2_resumed0", kLayoutKx,
+                  kSubstepFields);
   for (const char* out : {"mpi", "stopped2_resumed2", "stopped2_resumed0"})
     expect_first_peak(d / "serial", d / out);
 }

@@ -107,7 +107,7 @@ std::vector<ScenarioKey> make_table() {
       // displacement and rough benches under either interpolation (docs/algorithms.md); at
       // most the step control's 256 a row (kMaxSubsteps, history/step_control.hpp).
       integer("load.substeps", 1, 256, "4",
-              "equal solves a row whose normal load changes (no load.tolerance); 1: one"),
+              "equal solves a row whose normal load changes (no load.tolerance; coupled: 1); 1: one"),
       choice("load.interpolation", {"linear", "cubic"}, "linear",
              "table: load between rows on straight lines or a not-a-knot cubic spline"),
       // Below 1e-14 no solve can get: round-off of the double sums over the grid leaves
