@@ -291,6 +291,41 @@ TEST(WearResume, ErkStopAndResumeWithinTolerance) {
   fs::remove_all(part);
 }
 
+// A stop right after an explicit step whose last stage ran on the new state: that state's
+// accepted row is already in cycles.csv when the checkpoint is written, and the resumed run's
+// first evaluation there is a repeat (accepted = 0), as in the uninterrupted run. A flat in
+// full stick under static/kinetic friction and a varying normal load (no wear: every state is
+// the unworn surface), stopped after one and after two steps.
+TEST(WearResume, ErkResumeKeepsTheAcceptedFlagsOfAStateThatHasItsRow) {
+  const fs::path table = fresh_dir("flag_table.csv");
+  std::ofstream(table) << "time,Fz,Fx\n0,7.222,0\n0.125,9.389,1.912\n0.25,7.222,2.080\n"
+                          "0.375,5.055,1.030\n0.5,7.222,0\n0.625,9.389,-1.912\n"
+                          "0.75,7.222,-2.080\n0.875,5.055,-1.030\n1,7.222,0\n";
+  const fs::path ini = fresh_dir("flag.ini");
+  std::ofstream(ini)
+      << "[material]\nE = 7e10\nnu = 0.49\nmu = 0.8\n[grid]\nn = 16\nlength = 2.8e-4\n"
+         "[surface]\ntype = flat\n[friction]\nlaw = static_kinetic\nmu_kinetic = 0.48\n"
+         "[load]\npath = table\ntable = "
+      << table.string()
+      << "\n[wear]\nlaw = energy\nintegrator = arkode\ncycles = 40\ncoefficient = 2.1e-9\n";
+  const std::string run = "run " + ini.string() + " --quiet --out ";
+  const fs::path full = fresh_dir("flag_full");
+  ASSERT_EQ(sh(run + full.string()), 0);
+  const Csv a = read_csv(full / "cycles.csv");
+  for (const char* stop : {"1", "2"}) {
+    const fs::path part = fresh_dir(std::string("flag_part") + stop);
+    ASSERT_EQ(sh(run + part.string() + " --stop-after " + stop), 0);
+    ASSERT_EQ(sh("run --quiet --resume " + part.string()), 0);
+    const Csv b = read_csv(part / "cycles.csv");
+    EXPECT_EQ(a.column("accepted"), b.column("accepted")) << "stopped after " << stop;
+    EXPECT_EQ(a.column("N"), b.column("N")) << "stopped after " << stop;
+    fs::remove_all(part);
+  }
+  fs::remove_all(full);
+  fs::remove(ini);
+  fs::remove(table);
+}
+
 namespace {
 
 // Starts the cycle-mode run of run_args(out, "cycle", N) in the background, sends it `sig`

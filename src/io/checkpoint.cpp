@@ -189,6 +189,7 @@ void write_wear(hid_t f, const WearCheckpoint& w) {
                 double(c.index), double(w.steps), double(w.rejected), double(w.next_snapshot),
                 double(w.cycles_rows), double(w.snapshots), w.implicit ? 1.0 : 0.0});
   write_field(f, "wear_worn", w.worn);
+  if (w.state_has_row) write_vector(f, "wear_state_row", {1.0});
   if (w.warm.pressure.size() > 0) write_field(f, "wear_warm_pressure", w.warm.pressure);
   if (w.warm.corrective.size() > 0) write_field(f, "wear_warm_corrective", w.warm.corrective);
   for (std::size_t k = 0; k < w.warm.worn_path.size(); ++k) {
@@ -397,6 +398,7 @@ std::optional<WearCheckpoint> read_wear(const Reader& r) {
   w.cycles_rows = count(r, "wear cycles_rows", v[10], 0, 9e15);
   w.snapshots = count(r, "wear snapshots", v[11], 0, 9e15);
   w.implicit = v[12] != 0.0;
+  w.state_has_row = r.exists("wear_state_row");
   w.worn = r.field("wear_worn");
   // Without it the next evaluation starts cold.
   if (r.exists("wear_warm_pressure")) w.warm.pressure = r.field("wear_warm_pressure");

@@ -128,10 +128,12 @@ OdeRun::OdeRun(Model& model, WearCycles& cyc, Observer& log, WearIntegrator kind
   else
     first_cycle();
   d_.atol = absolute_tolerance(model_, cyc_);
-  // A checkpoint is written before the state it holds has a row (its row is the first
-  // evaluation of the next step), so a resumed run starts with none (a resume row written
-  // with accepted = 0 would hide an accepted state).
-  last_ = resume ? std::pair{-1.0, std::uint64_t(0)} : std::pair{t_, worn_fingerprint()};
+  // The state a checkpoint holds has its accepted row already when a step's last evaluation
+  // ran on it (the checkpoint says so); otherwise its row is the first evaluation of the next
+  // step, and a resumed run starts with none (a resume row written with accepted = 0 would
+  // hide an accepted state).
+  const bool has_row = !resume || resume->state_has_row;
+  last_ = has_row ? std::pair{t_, worn_fingerprint()} : std::pair{-1.0, std::uint64_t(0)};
   implicit_ = choose_implicit(kind);
   rep_.implicit = implicit_;
   if (!resume) {
@@ -274,6 +276,7 @@ void OdeRun::write_checkpoint(std::size_t i, bool snap, double h_next, long step
   at.next_snapshot = long(snap ? i + 1 : i);
   at.implicit = implicit_;
   at.warm = cyc_.warm_start();
+  at.state_has_row = last_ == std::pair{t_, worn_fingerprint()};
   log_.step_done(at);
 }
 

@@ -91,6 +91,9 @@ struct WearCheckpoint {
   long cycles_rows = 0;   ///< rows of cycles.csv (set by the log)
   long snapshots = 0;     ///< snapshot groups written (set by the log)
   bool implicit = false;  ///< ARKODE: the method in use (arkode chooses once, at N = 0)
+  /// ARKODE: the state at N already has its accepted row (an explicit step's last stage ran
+  /// on it), so the resumed run's first evaluation there is a repeat, as uninterrupted.
+  bool state_has_row = false;
 };
 
 struct WearReport {
