@@ -295,7 +295,10 @@ TEST(WearResume, ErkStopAndResumeWithinTolerance) {
 // accepted row is already in cycles.csv when the checkpoint is written, and the resumed run's
 // first evaluation there is a repeat (accepted = 0), as in the uninterrupted run. A flat in
 // full stick under static/kinetic friction and a varying normal load (no wear: every state is
-// the unworn surface), stopped after one and after two steps.
+// the unworn surface), stopped after one and after two steps; and after the fifth and sixth,
+// where the cost guard simulates stretches of cycles one by one, doubling a stretch while the
+// integrator stays unprofitable: the checkpoint carries the next stretch, so the resumed run
+// takes the uninterrupted one's stretches (N and flags equal).
 TEST(WearResume, ErkResumeKeepsTheAcceptedFlagsOfAStateThatHasItsRow) {
   const fs::path table = fresh_dir("flag_table.csv");
   std::ofstream(table) << "time,Fz,Fx\n0,7.222,0\n0.125,9.389,1.912\n0.25,7.222,2.080\n"
@@ -312,7 +315,7 @@ TEST(WearResume, ErkResumeKeepsTheAcceptedFlagsOfAStateThatHasItsRow) {
   const fs::path full = fresh_dir("flag_full");
   ASSERT_EQ(sh(run + full.string()), 0);
   const Csv a = read_csv(full / "cycles.csv");
-  for (const char* stop : {"1", "2"}) {
+  for (const char* stop : {"1", "2", "5", "6"}) {
     const fs::path part = fresh_dir(std::string("flag_part") + stop);
     ASSERT_EQ(sh(run + part.string() + " --stop-after " + stop), 0);
     ASSERT_EQ(sh("run --quiet --resume " + part.string()), 0);

@@ -190,6 +190,7 @@ void write_wear(hid_t f, const WearCheckpoint& w) {
                 double(w.cycles_rows), double(w.snapshots), w.implicit ? 1.0 : 0.0});
   write_field(f, "wear_worn", w.worn);
   if (w.state_has_row) write_vector(f, "wear_state_row", {1.0});
+  write_vector(f, "wear_stretch", {w.stretch, w.stretched ? 1.0 : 0.0});
   if (w.warm.pressure.size() > 0) write_field(f, "wear_warm_pressure", w.warm.pressure);
   if (w.warm.corrective.size() > 0) write_field(f, "wear_warm_corrective", w.warm.corrective);
   for (std::size_t k = 0; k < w.warm.worn_path.size(); ++k) {
@@ -399,6 +400,10 @@ std::optional<WearCheckpoint> read_wear(const Reader& r) {
   w.snapshots = count(r, "wear snapshots", v[11], 0, 9e15);
   w.implicit = v[12] != 0.0;
   w.state_has_row = r.exists("wear_state_row");
+  if (r.exists("wear_stretch")) {
+    const auto s = r.vector("wear_stretch", 2);
+    w.stretch = s[0], w.stretched = s[1] != 0.0;
+  }
   w.worn = r.field("wear_worn");
   // Without it the next evaluation starts cold.
   if (r.exists("wear_warm_pressure")) w.warm.pressure = r.field("wear_warm_pressure");

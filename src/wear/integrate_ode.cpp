@@ -159,6 +159,7 @@ void OdeRun::resume_from(const WearCheckpoint& at) {
   first_snap_ = std::size_t(at.next_snapshot);
   steps0_ = at.steps, rejected0_ = at.rejected;
   cyc_.resume(at.counters, at.warm);
+  if (at.stretch > 0.0) stretch_ = at.stretch, stretched_ = at.stretched;
 }
 
 // A first steady cycle on the unworn surface: the N = 0 row, snapshot and stability cap.
@@ -277,6 +278,7 @@ void OdeRun::write_checkpoint(std::size_t i, bool snap, double h_next, long step
   at.implicit = implicit_;
   at.warm = cyc_.warm_start();
   at.state_has_row = last_ == std::pair{t_, worn_fingerprint()};
+  at.stretch = stretch_, at.stretched = stretched_;
   log_.step_done(at);
 }
 

@@ -94,6 +94,10 @@ struct WearCheckpoint {
   /// ARKODE: the state at N already has its accepted row (an explicit step's last stage ran
   /// on it), so the resumed run's first evaluation there is a repeat, as uninterrupted.
   bool state_has_row = false;
+  /// ARKODE: the cost guard's next stretch of cycles and whether the last wear step was one
+  /// (a stretch doubles while the integrator stays unprofitable).
+  double stretch = 0.0;
+  bool stretched = false;
 };
 
 struct WearReport {
