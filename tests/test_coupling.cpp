@@ -397,7 +397,7 @@ TEST(Coupling, NormalLoadingConvergesUnderRefinement) {
 // 1e-10 and coupling_tolerance = 1e-8 must converge with the projected method alone: its
 // iteration cycled between 3 and 23 stick nodes when a projection raised the QP objective,
 // leaving the steps to the fallbacks. The resultant of the shear stays zero (symmetry). Under
-// coupled the default is one solve a row (scenario/sections.cpp, default_coupled_load_steps):
+// coupled the default is one solve a row (scenario/sections.cpp, resolve_load_substeps):
 // the scenario leaves load.substeps out, as a user would.
 TEST(Coupling, TightTolerancesConvergeWhereTheShearSlidesNearlyEverywhere) {
   const Material m = steel_on_aluminium();

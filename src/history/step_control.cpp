@@ -34,7 +34,7 @@ constexpr double kMeasuredOverestimate = 3.0;
 
 int fixed_substeps(const Model& model) {
   const LoadSpec& load = model.scenario.load;
-  return load.tolerance > 0.0 || model.wear ? 1 : load.substeps;
+  return load.tolerance > 0.0 ? 1 : load.substeps;  // wear and coupled: scenario/sections.cpp
 }
 
 int row_substeps(const Model& model, std::size_t k) {

@@ -43,8 +43,7 @@ Scenario parse_scenario(const std::string& text, const std::string& name,
   s.given_keys = r.keys();
   read_friction(r, s.load, s.material.mu, s.friction);
   check_wear_friction(r, s.wear, s.friction);
-  check_wear_load_steps(r, s.wear, s.load);
-  default_coupled_load_steps(r, s.solver, s.load);
+  resolve_load_substeps(r, s.wear, s.solver, s.load);
   s.resolved_text = resolved_text(s);
   return s;
 }

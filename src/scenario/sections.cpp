@@ -362,24 +362,24 @@ void check_wear_friction(const Reader& r, const WearSpec& w, const FrictionSpec&
                  "wear map restarts the friction evolution in every evaluation)");
 }
 
-// Error-controlled steps and sub-steps re-solve a row's load from its start state; the wear
-// integrators restore and replay rows on frozen surfaces with their own step control
-// (docs/wear.md): a wear run solves its rows whole.
-void check_wear_load_steps(const Reader& r, const WearSpec& w, LoadSpec& l) {
-  if (w.law == WearLaw::none) return;
-  if (l.tolerance > 0.0)
-    r.fail_value("load.tolerance", "is not supported in wear runs (wear.law is not none); use 0");
-  if (r.has("load.substeps") && l.substeps > 1)
-    r.fail_value("load.substeps", "is not supported in wear runs (wear.law is not none); use 1");
-  l.substeps = 1;
-}
-
-// solver.coupling = coupled: rows solved whole unless load.substeps is given. In the default
-// sub-steps the coupled normal ramp of Coupling.TightTolerancesConvergeWhereTheShearSlidesNearly-
-// Everywhere (solver.tolerance 1e-10) stopped at its third row (residual 1.4e-2 after 2888
-// iterations) where one solve a row converges; the coupled bound moves within the coupling's
-// alternation, which the sub-steps' second-order claim does not cover.
-void default_coupled_load_steps(const Reader& r, const SolverSpec& s, LoadSpec& l) {
+// The sub-steps a row whose normal load changes is solved in, where they differ from
+// load.substeps' default. Error-controlled steps and sub-steps re-solve a row's load from its
+// start state; the wear integrators restore and replay rows on frozen surfaces with their own
+// step control (docs/wear.md): a wear run solves its rows whole, and refuses either key asking
+// otherwise. Under solver.coupling = coupled rows are solved whole unless load.substeps is
+// given: in the default sub-steps the coupled normal ramp of
+// Coupling.TightTolerancesConvergeWhereTheShearSlidesNearlyEverywhere (solver.tolerance 1e-10)
+// stopped at its third row (residual 1.4e-2 after 2888 iterations) where one solve a row
+// converges; the coupled bound moves within the coupling's alternation, which the sub-steps'
+// second-order claim does not cover.
+void resolve_load_substeps(const Reader& r, const WearSpec& w, const SolverSpec& s, LoadSpec& l) {
+  if (w.law != WearLaw::none) {
+    if (l.tolerance > 0.0)
+      r.fail_value("load.tolerance", "is not supported in wear runs (wear.law is not none); use 0");
+    if (r.has("load.substeps") && l.substeps > 1)
+      r.fail_value("load.substeps", "is not supported in wear runs (wear.law is not none); use 1");
+    l.substeps = 1;
+  }
   if (s.coupling == Coupling::coupled && !r.has("load.substeps")) l.substeps = 1;
 }
 

@@ -25,8 +25,7 @@ void read_friction(const Reader& r, const LoadSpec& l, double mu, FrictionSpec& 
 void check_wear_friction(const Reader& r, const WearSpec& w, const FrictionSpec& f);
 /// load.tolerance > 0 or an explicit load.substeps > 1 in a wear run: refused, naming the key;
 /// a wear run's rows are solved whole (load.substeps = 1).
-void check_wear_load_steps(const Reader& r, const WearSpec& w, LoadSpec& l);
-void default_coupled_load_steps(const Reader& r, const SolverSpec& s, LoadSpec& l);
+void resolve_load_substeps(const Reader& r, const WearSpec& w, const SolverSpec& s, LoadSpec& l);
 
 /// The resolved scenario as INI text: every key with its final value, unset ones as comments.
 std::string resolved_text(const Scenario& s);

@@ -17,8 +17,9 @@ namespace fretbem {
 constexpr int kMaxSubsteps = 256;
 
 /// The equal sub-steps of every row whose normal load changes when the step control is off:
-/// load.substeps, 1 with load.tolerance > 0 (the controller chooses) and in wear runs (their
-/// integrators replay rows whole).
+/// load.substeps (resolved to 1 in wear runs, whose integrators replay rows whole, and by
+/// default under coupled: resolve_load_substeps), 1 with load.tolerance > 0 (the controller
+/// chooses).
 int fixed_substeps(const Model& model);
 
 /// The solves of path row k without load.tolerance: fixed_substeps where its normal load

@@ -74,7 +74,8 @@ struct LoadSpec {
   double tolerance = 0.0;
   /// load.substeps: without load.tolerance, the equal sub-steps in which each row whose normal
   /// load changes is solved (history/step_control.hpp); 1: one solve a row. Wear runs solve
-  /// their rows whole (1).
+  /// their rows whole (1), and so do coupled runs unless the key is given
+  /// (resolve_load_substeps, scenario/sections.cpp).
   int substeps = 4;
   /// load.interpolation: how a table's load runs between its rows: linear, or cubic (a
   /// not-a-knot spline through the rows, history/load_spline.hpp), which sub-steps follow and
