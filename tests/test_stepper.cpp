@@ -631,8 +631,8 @@ TEST(MasingImage, BranchSecantFollowsMasingsRule) {
 }
 
 // A start that continues the branch (the virgin secant, the Masing image, the branch secant)
-// is taken without the two force-shifted starts it used to be compared against (one product
-// each). Without preconditioning an increment's products are its CG steps, the start's image
+// is taken as it is, without building the two force-shifted starts (one product each) to
+// compare it with. Without preconditioning an increment's products are its CG steps, the start's image
 // and one verifying product per verification pass (counted as an iteration), so
 // convolutions - iterations is at most 1 + 1 (1 where the start meets the tolerance), plus one
 // for each update of the stick image when the force restoration meets a new stick set; with
