@@ -80,8 +80,8 @@ TEST(FftThreads, SecondThreadCostsNoCpuOnASmallGrid) {
   std::filesystem::remove_all(dir + "_2");
 }
 
-// Runs below n = 512 use one FFT thread whatever solver.threads asks, so the operator is checked directly:
-// ESTIMATE plans give the same bits with one and two threads (README, solver.fft_plan).
+// Runs below n = 512 use one FFT thread whatever solver.threads asks, so the operator is checked
+// directly: ESTIMATE plans give the same bits with one and two threads (README, solver.fft_plan).
 TEST(FftThreads, TwoThreadsGiveTheSameBits) {
   const Grid grid = Grid::square(32, 1.0);
   Material mat;

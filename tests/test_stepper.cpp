@@ -632,12 +632,12 @@ TEST(MasingImage, BranchSecantFollowsMasingsRule) {
 
 // A start that continues the branch (the virgin secant, the Masing image, the branch secant)
 // is taken as it is, without building the two force-shifted starts (one product each) to
-// compare it with. Without preconditioning an increment's products are its CG steps, the start's image
-// and one verifying product per verification pass (counted as an iteration), so
-// convolutions - iterations is at most 1 + 1 (1 where the start meets the tolerance), plus one
-// for each update of the stick image when the force restoration meets a new stick set; with
-// the shifted starts it is 3–4. Checked on the
-// Mindlin–Deresiewicz cycle's virgin steps 2–8 and first unloading 9–24 (32 steps a cycle).
+// compare it with. Without preconditioning an increment's products are its CG steps, the start's
+// image and one verifying product per verification pass (counted as an iteration), so convolutions
+// - iterations is at most 1 + 1 (1 where the start meets the tolerance), plus one for each update
+// of the stick image when the force restoration meets a new stick set; with the shifted starts it
+// is 3–4. Checked on the Mindlin–Deresiewicz cycle's virgin steps 2–8 and first unloading 9–24 (32
+// steps a cycle).
 TEST(MasingImage, ContinuedStartBuildsNoShiftedStarts) {
   const Recorder r =
       run(sphere_scenario(64, sine_load(0.6, 1, 32), "stiffness = none\nprecondition = off\n"));
