@@ -10,6 +10,8 @@
 #include <numbers>
 #include <random>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "fretbem/contact/tangential_solver.hpp"
 #include "fretbem/core/errors.hpp"
@@ -391,15 +393,14 @@ TEST(Coupling, NormalLoadingConvergesUnderRefinement) {
   EXPECT_LT(std::abs(approach[2] - approach[1]), 0.7 * std::abs(approach[1] - approach[0]));
 }
 
+namespace {
+
 // Steel on aluminium (beta = 0.12) with mu = 0.029 (beta/mu = 4): the pressure's tangential
-// displacement slides nearly the whole contact, and at zero tangential force a few central
-// nodes stick. A normal ramp (F_z to the a = L/4 load in 4 rows, n = 32) at solver.tolerance =
-// 1e-10 and coupling_tolerance = 1e-8 must converge with the projected method alone: its
-// iteration cycled between 3 and 23 stick nodes when a projection raised the QP objective,
-// leaving the steps to the fallbacks. The resultant of the shear stays zero (symmetry). Under
-// coupled the default is one solve a row (scenario/sections.cpp, resolve_load_substeps):
-// the scenario leaves load.substeps out, as a user would.
-TEST(Coupling, TightTolerancesConvergeWhereTheShearSlidesNearlyEverywhere) {
+// displacement slides the whole contact. A normal ramp (F_z to the a = L/4 load in 4 rows,
+// n = 32) at solver.tolerance = 1e-10 and coupling_tolerance = 1e-8, the table written with
+// the stream's 6 digits; `substeps` is the [load] line that sets load.substeps, if any. The
+// fallbacks the run took are returned in `fallbacks`.
+Recorder tight_ramp(const std::string& substeps, int& fallbacks) {
   const Material m = steel_on_aluminium();
   const double Fz = hertz_force(m.E_star(), 0.25);
   const fretbem_test::TempDir tmp("coupling");
@@ -411,17 +412,55 @@ TEST(Coupling, TightTolerancesConvergeWhereTheShearSlidesNearlyEverywhere) {
   std::ostringstream mat;
   mat << "E = " << m.body1.E << "\nnu = " << m.body1.nu << "\nE2 = " << m.body2->E
       << "\nnu2 = " << m.body2->nu << "\nmu = 0.029";
-  const std::string text = sphere(32, mat.str(), "path = table\ntable = " + table.string(),
-                                  "coupling = coupled\ncoupling_tolerance = 1e-8");
+  const std::string text =
+      sphere(32, mat.str(), "path = table\n" + substeps + "table = " + table.string(),
+             "coupling = coupled\ncoupling_tolerance = 1e-8");
   auto model = build_model(parse_scenario(text, "test", fs::temp_directory_path()));
   Stepper stepper(*model);
   Recorder rec;
   stepper.run({&rec});
+  fallbacks = dynamic_cast<const FallbackTangentialSolver&>(*model->tangential).fallbacks();
+  return rec;
+}
+
+// Every row within both tolerances, and the resultant of the shear zero (symmetry).
+void expect_converged_rows(const Recorder& rec) {
   ASSERT_EQ(rec.rows.size(), 4u);
-  EXPECT_EQ(dynamic_cast<const FallbackTangentialSolver&>(*model->tangential).fallbacks(), 0);
   for (const auto& row : rec.rows) {
     EXPECT_LE(row.coupling_residual, 1e-8) << "step " << row.step;
     EXPECT_LE(row.tangential_residual, 1e-10) << "step " << row.step;
     EXPECT_LT(std::hypot(row.Fx, row.Fy), 1e-8 * 0.029 * row.Fz) << "step " << row.step;
   }
+}
+
+}  // namespace
+
+// The ramp must converge with the projected method alone: its iteration cycled between 3 and
+// 23 stick nodes when a projection raised the QP objective, leaving the steps to the
+// fallbacks. The scenario leaves load.substeps out, as a user would.
+TEST(Coupling, TightTolerancesConvergeWhereTheShearSlidesNearlyEverywhere) {
+  int fallbacks = -1;
+  const Recorder rec = tight_ramp("", fallbacks);
+  EXPECT_EQ(fallbacks, 0);
+  expect_converged_rows(rec);
+}
+
+// The same ramp in 2, 4 and 8 sub-steps a row. Every sub-step's solution slides everywhere
+// (no stick node), where the force constraint's multiplier dU is no stick nodes' mean: the
+// iteration cycled (4 sub-steps: residual 2.3e-10 -> 3.1e-2 every ~95 iterations) or settled
+// at 3.25e-10, and 4 sub-steps stopped the run. The dissipation at the last row converges
+// under the sub-steps (second order: its change falls by about 4 per halving).
+TEST(Coupling, TightTolerancesConvergeInSubSteps) {
+  std::vector<double> dissipation;
+  for (int k : {2, 4, 8}) {
+    SCOPED_TRACE("load.substeps = " + std::to_string(k));
+    int fallbacks = -1;
+    const Recorder rec = tight_ramp("substeps = " + std::to_string(k) + "\n", fallbacks);
+    EXPECT_EQ(fallbacks, 0);
+    expect_converged_rows(rec);
+    dissipation.push_back(rec.rows.back().dissipation);
+    std::printf("K = %d: dissipation %.9e J\n", k, dissipation.back());
+  }
+  EXPECT_LT(std::abs(dissipation[2] - dissipation[1]),
+            0.5 * std::abs(dissipation[1] - dissipation[0]));
 }

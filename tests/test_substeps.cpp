@@ -145,6 +145,25 @@ TEST(Substeps, ResumedDefaultRunRepeatsTheUninterruptedOne) {
   fs::remove(table);
 }
 
+// The same under solver.coupling = coupled (rigid sphere on nu = 0.3, beta = 0.286) in 4
+// sub-steps a row, one period: the coupling's alternations restart from the checkpointed
+// state of the row before.
+TEST(Substeps, ResumedCoupledRunRepeatsTheUninterruptedOne) {
+  const fs::path table = temp_path("coupled") += ".csv";
+  fretbem_test::write_sine_normal_table(table, 8, fretbem_test::unit_hertz_force(), kMu, 1);
+  const std::string ini = fretbem_test::unit_sphere_ini(
+      32, "path = table\ntable = " + table.string() + "\nsubsteps = 4\n",
+      "[solver]\ntolerance = 1e-10\nstiffness = none\ncoupling = coupled\n");
+  const fs::path full = temp_path("coupled_full"), part = temp_path("coupled_part");
+  ASSERT_EQ(run_into(ini, full), 0);
+  ASSERT_EQ(run_into(ini, part, 5), 0);
+  ASSERT_EQ(resume_run(part, {.quiet = true}), 0);
+  EXPECT_EQ(fretbem_test::differing_tables(full, part, "convolutions"), "");
+  fs::remove_all(full);
+  fs::remove_all(part);
+  fs::remove(table);
+}
+
 // Wear runs solve a table's rows whole (their integrators restore and replay rows): an
 // explicit load.substeps > 1 is refused naming the key, 1 is said to be unread, and the
 // default resolves to 1.

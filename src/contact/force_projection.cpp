@@ -16,6 +16,15 @@ namespace fretbem::tangential_detail {
 // slip nodes as well would turn them against their slip and, in 2-D, make the iteration cycle.
 // Only when the stick nodes cannot carry the force (a reversal under force control) do all
 // contact nodes move, which gives a feasible state of the right force.
+//
+// With no stick node (the whole contact slides) the correction turns the slip nodes along
+// their bound instead: sum g_i (tau_i + lambda) / |tau_i + lambda| is the gradient of the
+// convex sum g_i |tau_i + lambda|, so the same Newton finds lambda, and every node stays on
+// its bound. Projecting instead put a node inside its disc whenever lambda . tau_i <
+// -|lambda|^2 / 2, half the contact for a lambda of any size: on the coupled normal ramp
+// (beta/mu = 4, n = 32, 4 sub-steps a row) the iterate at residual 2.3e-10 with no stick
+// node came back with 104 of 208 stick nodes at 3.1e-2, a cycle of about 95 iterations
+// that ended in the stagnation stop.
 void Workspace::restore_force(VecField& tau, VecField& u) {
   if (inc.control != TangentialControl::force) return;
   const Field& g = *inc.bound;
@@ -27,9 +36,13 @@ void Workspace::restore_force(VecField& tau, VecField& u) {
   comm().sum(std::span<double>(sum.data(), sum.size()));
   if ((sum - want).norm() <= tol) return;
   sets.classify(g, tau);
-  const ForceShift fs = shift_to_force(false, want, tau);
+  if (sets.nstick == 0 && shift_to_force(Movable::on_bound, want, tau).mismatch <= tol) {
+    op.apply(tau, u);
+    return;
+  }
+  const ForceShift fs = shift_to_force(Movable::stick, want, tau);
   if (fs.mismatch > tol) {
-    shift_to_force(true, want, tau);
+    shift_to_force(Movable::all, want, tau);
     op.apply(tau, u);
     return;
   }
@@ -75,8 +88,9 @@ void Workspace::update_stick_image() {
 namespace {
 
 template <int NC>
-ForceShift shift_to_force_impl(const NodeSets& sets, const Field& g, double gsum, bool all,
+ForceShift shift_to_force_impl(const NodeSets& sets, const Field& g, double gsum, Movable movable,
                                const Eigen::VectorXd& want_, VecField& tau) {
+  const bool all = movable != Movable::stick, on_bound = movable == Movable::on_bound;
   const Vec<NC> want = want_;
   // The movable nodes' starting traction; the others contribute a constant to the total.
   std::vector<Eigen::Index> nodes;
@@ -101,9 +115,9 @@ ForceShift shift_to_force_impl(const NodeSets& sets, const Field& g, double gsum
       const Eigen::Index k = nodes[i];
       Vec<NC> y = base[i] + l;
       const double m = y.norm();
-      if (m <= g(k)) {
+      if (m <= g(k) && !on_bound) {
         J += Mat<NC>::Identity();
-      } else {
+      } else if (m > 0.0) {
         J += (g(k) / m) * (Mat<NC>::Identity() - y * y.transpose() / (m * m));
         y *= g(k) / m;
         clamped = true;
@@ -118,29 +132,13 @@ ForceShift shift_to_force_impl(const NodeSets& sets, const Field& g, double gsum
     sum = Eigen::Map<Vec<NC>>(sums.data()), J = Eigen::Map<Mat<NC>>(sums.data() + NC);
     clamped = sums[NC + NC * NC] > 0.0;
   };
-  Vec<NC> lambda = Vec<NC>::Zero(), sum, trial;
-  Mat<NC> J, trial_J;
-  apply(lambda, sum, J);
-  double err = (sum - want).norm();
-  bool at_lambda = true;  // tau holds P(base + lambda)
   // Typically one Newton step: while no stick node reaches its bound the map is linear.
-  for (int it = 0; it < 200 && err > 1e-15 * gsum; ++it) {
-    // Newton step (regularised where the map is flat), halved until the mismatch shrinks.
-    J += (1e-12 * J.trace() + 1e-300) * Mat<NC>::Identity();
-    Vec<NC> step = J.ldlt().solve(want - sum);
-    int half = 0;
-    for (; half < 60; ++half, step *= 0.5) {
-      apply(lambda + step, trial, trial_J);
-      if ((trial - want).norm() < err) break;
-    }
-    if (half == 60) {  // no shift of these nodes reduces the mismatch
-      at_lambda = false;
-      break;
-    }
-    lambda += step, sum = trial, J = trial_J;
-    err = (sum - want).norm();
-  }
-  if (!at_lambda) apply(lambda, sum, J);
+  const NewtonPoint<NC> p = monotone_newton<NC>(apply, Vec<NC>::Zero(), want, 1e-15 * gsum, 200);
+  Vec<NC> sum;
+  Mat<NC> J;
+  if (!p.evaluated_at_x) apply(p.x, sum, J);  // tau holds P(base + lambda) again
+  const double err = p.mismatch;
+  const Vec<NC> lambda = p.x;
   ForceShift r;
   r.mismatch = err;
   r.lambda = lambda;
@@ -150,9 +148,10 @@ ForceShift shift_to_force_impl(const NodeSets& sets, const Field& g, double gsum
 
 }  // namespace
 
-ForceShift Workspace::shift_to_force(bool all, const Eigen::VectorXd& want, VecField& tau) const {
+ForceShift Workspace::shift_to_force(Movable movable, const Eigen::VectorXd& want,
+                                     VecField& tau) const {
   return by_components(int(tau.size()), [&](auto nc) {
-    return shift_to_force_impl<decltype(nc)::value>(sets, *inc.bound, gsum, all, want, tau);
+    return shift_to_force_impl<decltype(nc)::value>(sets, *inc.bound, gsum, movable, want, tau);
   });
 }
 

@@ -85,10 +85,10 @@ std::int64_t classify_impl(NodeSets& sets, const Field& g, const VecField& tau) 
 
 // classify and mean_shift in one pass over the contact nodes (the residual's first two passes
 // were a fifth of its time): the same flags, and the stick nodes' sum of u - u0 in the same
-// order. With no stick node the mean over all contact nodes takes its own pass.
+// order. With no stick node the shift over all contact nodes takes its own passes (mean_shift).
 template <int NC>
 Vec<NC> classify_and_shift(NodeSets& sets, const TangentialIncrement& inc, const VecField& tau,
-                           const VecField& u) {
+                           const VecField& u, double cell_area) {
   const Field& g = *inc.bound;
   const VecField& u0 = *inc.u0;
   const bool force = inc.control == TangentialControl::force;
@@ -108,7 +108,7 @@ Vec<NC> classify_and_shift(NodeSets& sets, const TangentialIncrement& inc, const
   sets.comm->sum(totals);
   sets.nstick = std::int64_t(totals[0]);
   if (!force) return inc.target;
-  if (sets.nstick == 0) return mean_shift<NC>(sets, inc, u);
+  if (sets.nstick == 0) return mean_shift<NC>(sets, inc, u, cell_area);
   return Eigen::Map<Vec<NC>>(totals.data() + 1) / double(sets.nstick);
 }
 
@@ -118,7 +118,7 @@ double residual_impl(NodeSets& sets, const TangentialIncrement& inc, const VecFi
                      const VecField& u, double scale, const Grid& grid, Eigen::VectorXd& dU,
                      double& stick_slip2) {
   const Field& g = *inc.bound;
-  const Vec<NC> shift = classify_and_shift<NC>(sets, inc, tau, u);
+  const Vec<NC> shift = classify_and_shift<NC>(sets, inc, tau, u, grid.cell_area());
   double stick2 = 0.0, slip2 = 0.0, gsum = 0.0;
   Vec<NC> force = Vec<NC>::Zero();
   for (std::size_t j = 0; j < sets.contact.size(); ++j) {

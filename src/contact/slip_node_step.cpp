@@ -19,7 +19,7 @@ double collect_slip_moves(Workspace& w, const VecField& tau, const VecField& u) 
   const Field& g = *w.inc.bound;
   const NodeSets& sets = w.sets;
   const double omega = 1.0 / w.op.self_compliance();
-  const Vec<NC> dU = mean_shift<NC>(sets, w.inc, u);
+  const Vec<NC> dU = mean_shift<NC>(sets, w.inc, u, w.op.grid().cell_area());
   VecField& d = w.slip.step;
   w.slip.idx.clear();
   for (auto& v : w.slip.val) v.clear();

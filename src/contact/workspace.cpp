@@ -76,8 +76,8 @@ bool Workspace::feasible_guess(VecField& tg, VecField& ug) {
     const double tol = 1e-15 * gsum;
     const Eigen::VectorXd want = inc.target / op.grid().cell_area();
     sets.classify(g, tg);
-    if (shift_to_force(false, want, tg).mismatch > tol &&
-        shift_to_force(true, want, tg).mismatch > tol)
+    if (shift_to_force(Movable::stick, want, tg).mismatch > tol &&
+        shift_to_force(Movable::all, want, tg).mismatch > tol)
       return false;
   }
   op.apply(tg, ug);
@@ -99,8 +99,8 @@ void Workspace::start_force(VecField& tau, VecField& u) {
   if ((total_force(tau, op.grid(), comm()) / area - want).norm() <= tol) return;
   VecField ta = tau, ua, tb = tau, ub;
   sets.classify(g, tau);
-  const bool a_ok = shift_to_force(false, want, ta).mismatch <= tol;
-  shift_to_force(true, want, tb);
+  const bool a_ok = shift_to_force(Movable::stick, want, ta).mismatch <= tol;
+  shift_to_force(Movable::all, want, tb);
   op.apply(tb, ub);
   if (a_ok) {
     op.apply(ta, ua);

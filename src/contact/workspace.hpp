@@ -13,6 +13,11 @@
 
 namespace fretbem::tangential_detail {
 
+/// The nodes shift_to_force moves: the stick set, every contact node (into its disc where the
+/// shift takes it there), or every contact node kept on its bound (turned, not projected: the
+/// contact slides throughout and stays sliding).
+enum class Movable { stick, all, on_bound };
+
 /// Outcome of shift_to_force: remaining force mismatch (Pa * cells), the common shift, and
 /// whether no moved node reached its bound (then tau changed by exactly lambda on every node).
 struct ForceShift {
@@ -67,9 +72,10 @@ struct Workspace {
   /// Uniform shift of the stick nodes' traction that restores the imposed total force; u is
   /// then updated. No-op under displacement control.
   void restore_force(VecField& tau, VecField& u);
-  /// tau_i <- P_i(tau_i + lambda) on the movable contact nodes (the stick set, or all when
-  /// `all`) with the lambda that brings the total (in Pa * cells) closest to `want`.
-  ForceShift shift_to_force(bool all, const Eigen::VectorXd& want, VecField& tau) const;
+  /// tau_i <- P_i(tau_i + lambda) on the `movable` contact nodes (under Movable::on_bound
+  /// g_i (tau_i + lambda) / |tau_i + lambda|) with the lambda that brings the total (in
+  /// Pa * cells) closest to `want`.
+  ForceShift shift_to_force(Movable movable, const Eigen::VectorXd& want, VecField& tau) const;
   /// Brings stick_image up to the current stick set.
   void update_stick_image();
   /// Fills the report; throws SolverError when the increment did not converge.

@@ -3,15 +3,16 @@
 
 Usage: step_control_cost.py FRETBEM CASE [--rows N] [--splits 1,2,4,8] [--tolerances ...]
                              [--limit J] [--interpolation linear|cubic] [--substeps K]
-                             [--substeps-runs R1,R2,...]
+                             [--substeps-runs R1,R2,...] [--n N] [--coupling C]
 
 CASE: sphere (mindlin_cycle.ini's sphere at n = 96 under F_z = P (1 + 0.3 sin 2 pi t),
 F_x = 0.5 mu P cos 2 pi t, P = 10 N), displacement (the same F_z, U_x = 80 nm cos 2 pi t, n = 48)
 or rough (rough_fretting_cycle.ini at n = 64, F_z = 2 N (1 + 0.3 sin 2 pi t),
 F_x = 0.5 mu 2 N cos 2 pi t); not tuned on: rough_displacement (the rough surface of seed 2,
 U_x = 30 nm cos 2 pi t) and cerruti (the sphere at n = 48, F_x = 0.7 mu P cos 2 pi t,
-solver.coupling = cerruti). The table samples the load at N rows a period from t = -1/4 over
-three periods; a table is linear between its rows, so the path is that piecewise-linear load.
+solver.coupling = cerruti); coupled: the sphere at n = 48 with solver.coupling = coupled.
+The table samples the load at N rows a period from t = -1/4 over three periods; a table is
+linear between its rows, so the path is that piecewise-linear load.
 Fixed runs split every interval of it into s equal rows; the step limit of the third period's
 dissipation is Richardson (order 2) from the two largest splits. Error-controlled runs use the
 N-row table with load.tolerance. Per run: the third period's dissipated_energy, its error
@@ -51,6 +52,11 @@ CASES = {
     "cerruti": dict(n=48, length=2.8e-4, P=10.0, surface="type = sphere\nradius = 0.01\n",
                     column="Fx", amplitude=lambda P, mu: 0.7 * mu * P,
                     solver="coupling = cerruti\n"),
+    # The sphere's load at n = 48 with the normal-tangential coupling (rigid sphere on
+    # nu = 0.3, beta = 0.286): the bound moves within the coupling's alternation too.
+    "coupled": dict(n=48, length=2.8e-4, P=10.0, surface="type = sphere\nradius = 0.01\n",
+                    column="Fx", amplitude=lambda P, mu: 0.5 * mu * P,
+                    solver="coupling = coupled\n"),
 }
 MU = 0.5
 
@@ -132,7 +138,13 @@ def main():
     ap.add_argument("--limit", type=float, help="known step limit (J): no fixed runs")
     ap.add_argument("--interpolation", choices=["linear", "cubic"], default="linear")
     ap.add_argument("--substeps", default="1", help="load.substeps of the fixed runs: K[,K2...]")
+    ap.add_argument("--n", type=int, help="grid.n instead of the case's")
+    ap.add_argument("--coupling", help="solver.coupling instead of the case's")
     a = ap.parse_args()
+    if a.n:
+        CASES[a.case]["n"] = a.n
+    if a.coupling:
+        CASES[a.case]["solver"] = "coupling = %s\n" % a.coupling
     cubic = a.interpolation == "cubic"
     splits = [int(s) for s in a.splits.split(",")]
     tols = [float(t) for t in a.tolerances.split(",") if t]
