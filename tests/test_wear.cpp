@@ -397,6 +397,34 @@ TEST(WearIntegrators, DefaultAbsoluteToleranceIsRtolTimesIndentation) {
   EXPECT_EQ(a.rep.simulated_cycles, b.rep.simulated_cycles);
 }
 
+// A flat in complete contact on a periodic grid has no approach (every node touches at once;
+// the periodic kernel's mean mode is free): delta_0 = 0, so rtol x delta_0 is no tolerance and
+// ARKODE's error weights 1 / (rtol |W| + atol) on the unworn W = 0 are infinite. The ODE
+// integrators refuse it naming wear.atol; with wear.atol given the run goes on, and under a
+// uniform tangential load below mu F_z every node carries tau = 0.9 mu p < mu p (uniform
+// pressure, uniform traction: the exact periodic solution), slips nowhere and wears nothing.
+TEST(WearIntegrators, ZeroIndentationNeedsAGivenAbsoluteTolerance) {
+  const std::string flat =
+      "[material]\nE = 5e9\nnu = 0.49\nmu = 0.8\n[grid]\nn = 16\nlength = 2.8e-4\n"
+      "periodic = true\n[surface]\ntype = flat\n[load]\npath = sine\nnormal_force = 0.5\n"
+      "amplitude = 0.9\nsteps_per_cycle = 8\n[wear]\nlaw = archard\ncycles = 200\n"
+      "coefficient = 5e-10\nrtol = 0.01\nintegrator = ";
+  for (const char* integ : {"erk", "dirk", "arkode"}) {
+    SCOPED_TRACE(integ);
+    try {
+      run(flat + integ + "\n");
+      ADD_FAILURE() << "not refused";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("wear.atol"), std::string::npos) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+    const WearRun r = run(flat + integ + "\natol = 1e-9\n");
+    EXPECT_EQ(r.rep.N, 200.0);
+    EXPECT_EQ(r.rep.worn.abs().maxCoeff(), 0.0);
+  }
+}
+
 // wear.integrator = erk chosen past kImplicitPastCaps stability caps: the run keeps the method
 // asked for and warns at its start, naming the cap and the implicit integrators (the sweep's
 // erk run to N = 5e4 at n = 32 simulated 6303 cycles, over N/10). Under 50 caps, and for dirk

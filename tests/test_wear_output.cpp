@@ -329,6 +329,45 @@ TEST(WearResume, ErkResumeKeepsTheAcceptedFlagsOfAStateThatHasItsRow) {
   fs::remove(table);
 }
 
+// The explicit integrator's error test weighs W against rtol |W| + atol, atol = rtol times the
+// unworn indentation, which a probe loading solves to solver.tolerance. A resumed run reads
+// atol from the checkpoint: probing again from the last evaluation's pressure lands within that
+// tolerance, not on the same double, and moves the step chosen after an error-test failure
+// (N 6.377123523320289 -> 6.377123523320507). A periodic rough surface (n = 24, Archard) whose
+// run rejects a step after the stop; stopped after one and two steps, every cycles.csv cell
+// and the final worn depth equal the uninterrupted run's bit for bit.
+TEST(WearResume, ErkResumeKeepsTheAbsoluteToleranceOfTheFirstRun) {
+  const fs::path ini = fresh_dir("atol.ini");
+  std::ofstream(ini) << "[material]\nE = 5e9\nnu = 0\nmu = 0.5\n[grid]\nn = 24\n"
+                        "length = 2.8e-4\nperiodic = true\n[surface]\ntype = rough\n"
+                        "method = midpoint\nhurst = 0.7\nseed = 533\nrms_height = 2.8e-7\n"
+                        "[load]\npath = sine\nnormal_force = 2.352\namplitude = 0.9\n"
+                        "steps_per_cycle = 12\n[wear]\nlaw = archard\nintegrator = erk\n"
+                        "cycles = 200\ncoefficient = 5e-10\nrtol = 1e-3\n";
+  const std::string run = "run " + ini.string() + " --quiet --out ";
+  const fs::path full = fresh_dir("atol_full");
+  ASSERT_EQ(sh(run + full.string()), 0);
+  const Csv a = read_csv(full / "cycles.csv");
+  const auto N = a.column("N"), accepted = a.column("accepted");
+  bool retried = false;  // a trial rejected, the step retried shorter from the same state
+  for (std::size_t k = 1; k < N.size(); ++k) retried |= accepted[k - 1] == 0.0 && N[k] < N[k - 1];
+  ASSERT_TRUE(retried);
+  const auto Wf = h5_field(full / "result.h5", "/wear/final_worn_depth");
+  for (const char* stop : {"1", "2"}) {
+    const fs::path part = fresh_dir(std::string("atol_part") + stop);
+    ASSERT_EQ(sh(run + part.string() + " --stop-after " + stop), 0);
+    ASSERT_EQ(sh("run --quiet --resume " + part.string()), 0);
+    const Csv b = read_csv(part / "cycles.csv");
+    EXPECT_EQ(a.header, b.header);
+    EXPECT_EQ(a.rows, b.rows) << "stopped after " << stop;
+    EXPECT_EQ(Wf, h5_field(part / "result.h5", "/wear/final_worn_depth"))
+        << "stopped after " << stop;
+    fs::remove_all(part);
+  }
+  fs::remove_all(full);
+  fs::remove(ini);
+}
+
 namespace {
 
 // Starts the cycle-mode run of run_args(out, "cycle", N) in the background, sends it `sig`

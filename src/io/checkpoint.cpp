@@ -191,6 +191,7 @@ void write_wear(hid_t f, const WearCheckpoint& w) {
   write_field(f, "wear_worn", w.worn);
   if (w.state_has_row) write_vector(f, "wear_state_row", {1.0});
   write_vector(f, "wear_stretch", {w.stretch, w.stretched ? 1.0 : 0.0});
+  if (w.atol > 0.0) write_vector(f, "wear_atol", {w.atol});
   if (w.warm.pressure.size() > 0) write_field(f, "wear_warm_pressure", w.warm.pressure);
   if (w.warm.corrective.size() > 0) write_field(f, "wear_warm_corrective", w.warm.corrective);
   for (std::size_t k = 0; k < w.warm.worn_path.size(); ++k) {
@@ -404,6 +405,7 @@ std::optional<WearCheckpoint> read_wear(const Reader& r) {
     const auto s = r.vector("wear_stretch", 2);
     w.stretch = s[0], w.stretched = s[1] != 0.0;
   }
+  if (r.exists("wear_atol")) w.atol = r.vector("wear_atol", 1)[0];
   w.worn = r.field("wear_worn");
   // Without it the next evaluation starts cold.
   if (r.exists("wear_warm_pressure")) w.warm.pressure = r.field("wear_warm_pressure");

@@ -52,6 +52,8 @@ void check_wear(const fs::path& file, const WearCheckpoint& w, const Model& m) {
   if (std::isnan(w.h_max) || w.h_max <= 0 || w.h_next < 0)
     refuse(file, "wear step sizes out of range");
   check_scalar(file, "wear simulated cycles", w.counters.simulated);
+  check_scalar(file, "wear_atol", w.atol);
+  if (w.atol < 0.0) refuse(file, "wear_atol = " + format_number(w.atol) + " is negative");
 }
 
 }  // namespace

@@ -17,6 +17,14 @@ namespace fretbem::wear_detail {
 double absolute_tolerance(const Model& model, WearCycles& cyc) {
   const WearSpec& w = model.scenario.wear;
   const double delta0 = std::abs(cyc.initial_indentation());
+  // Complete contact on a periodic grid (a flat) has no approach (the kernel's mean mode is
+  // free), and rtol x 0 is no tolerance: ARKODE's error weights 1 / (rtol |W| + atol) are
+  // infinite on the unworn W = 0 (ARK_ILL_INPUT, combination sweep seed 35 case 3).
+  if (w.atol <= 0.0 && !(delta0 > 0.0))
+    throw InputError(
+        "wear.atol: the unworn indentation is 0 (every node touches at once, as a flat on a "
+        "periodic grid), so wear.rtol x indentation gives the ODE integrators no absolute "
+        "tolerance; give wear.atol in m, or use wear.integrator = cycle");
   if (w.atol <= 0.0) return w.rtol * delta0;
   if (delta0 > 0.0 &&
       !(w.atol >= kMinWearRelTolerance * delta0 && w.atol <= kMaxWearRelTolerance * delta0))

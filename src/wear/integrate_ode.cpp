@@ -127,7 +127,7 @@ OdeRun::OdeRun(Model& model, WearCycles& cyc, Observer& log, WearIntegrator kind
     resume_from(*resume);
   else
     first_cycle();
-  d_.atol = absolute_tolerance(model_, cyc_);
+  d_.atol = resume && resume->atol > 0.0 ? resume->atol : absolute_tolerance(model_, cyc_);
   // The state a checkpoint holds has its accepted row already when a step's last evaluation
   // ran on it (the checkpoint says so); otherwise its row is the first evaluation of the next
   // step, and a resumed run starts with none (a resume row written with accepted = 0 would
@@ -279,6 +279,7 @@ void OdeRun::write_checkpoint(std::size_t i, bool snap, double h_next, long step
   at.warm = cyc_.warm_start();
   at.state_has_row = last_ == std::pair{t_, worn_fingerprint()};
   at.stretch = stretch_, at.stretched = stretched_;
+  at.atol = d_.atol;
   log_.step_done(at);
 }
 

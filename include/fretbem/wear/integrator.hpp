@@ -98,6 +98,11 @@ struct WearCheckpoint {
   /// (a stretch doubles while the integrator stays unprofitable).
   double stretch = 0.0;
   bool stretched = false;
+  /// ARKODE: the absolute tolerance on W in use (m; wear_detail::absolute_tolerance). Read,
+  /// not recomputed, on resume: its indentation probe starts from the last evaluation's
+  /// pressure there and lands within solver.tolerance of the first run's, which moves every
+  /// step size chosen after an error-test failure. 0: not in the checkpoint (recomputed).
+  double atol = 0.0;
 };
 
 struct WearReport {
