@@ -467,8 +467,8 @@ TEST(Coupling, TightTolerancesConvergeInSubSteps) {
 
 // Evolving friction settles its bound in each alternation only to max(solver.tolerance,
 // coupling_tolerance) (settle_bound), so at solver.tolerance = 1e-5 above the default
-// coupling_tolerance = 1e-6 the traction moved by ~5e-5 from one alternation to the next and
-// the step failed after 50 (steel pair with nu 0 / 0.3, beta = 0.126, float FFTs, n = 24). The
+// coupling_tolerance = 1e-6 the traction moves by ~5e-5 from one alternation to the next and
+// the step would fail after 50 (steel pair with nu 0 / 0.3, beta = 0.126, float FFTs, n = 24). The
 // alternation now ends at that tolerance: every row within it, F_x on its target q mu0 F_z
 // (relative force control), the shift within 10 tolerances of the same run at
 // solver.tolerance = 1e-8 with double FFTs.
