@@ -196,6 +196,7 @@ void StiffnessSolver::given_start(const std::vector<std::uint8_t>& stick, const 
 
 StiffnessResult StiffnessSolver::solve(const StateField& state, const Field* start) {
   StiffnessResult res;
+  solved_ = false;
   std::vector<std::uint8_t> stick(std::size_t(state.size()));
   nodes_.clear();
   for (Eigen::Index k = 0; k < state.size(); ++k) {
@@ -248,6 +249,7 @@ StiffnessResult StiffnessSolver::solve(const StateField& state, const Field* sta
   }
   res.kx = est.value() * op_.grid().cell_area();
   res.kx_error = est.error();
+  solved_ = true;
   known_.push_front({nstick, bits, res.kx});
   if (known_.size() > kKnownSets) known_.pop_back();
   return res;

@@ -1,5 +1,6 @@
 #include "fretbem/history/stepper.hpp"
 
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -61,6 +62,7 @@ StepperMemory Stepper::memory() const {
   for (std::size_t c = 0; c < pressure_slip_.size(); ++c)
     m.fields["pressure_slip" + std::to_string(c)] = pressure_slip_[c];
   if (shortcut_p_star_.size() > 0) m.fields["shortcut_p_star"] = shortcut_p_star_;
+  if (shortcut_psi_.size() > 0) m.fields["shortcut_psi"] = shortcut_psi_;
   return m;
 }
 
@@ -91,6 +93,8 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m,
   if (w0 != m.fields.end() && w1 != m.fields.end()) pressure_slip_ = {w0->second, w1->second};
   const auto p_star = m.fields.find("shortcut_p_star");
   shortcut_p_star_ = p_star != m.fields.end() ? p_star->second : Field();
+  const auto psi = m.fields.find("shortcut_psi");
+  shortcut_psi_ = psi != m.fields.end() ? psi->second : Field();
 }
 
 StepRecord Stepper::advance(std::size_t k) {
@@ -111,6 +115,7 @@ StepRecord Stepper::advance(std::size_t k) {
   guess_predicted_ = guess_ && !start;
   const bool substepped = model_.scenario.load.tolerance > 0.0 || fixed_substeps(model_) > 1;
   const StepRecord rec = substepped && k > 0 ? advance_substepped(k) : advance(steps.at(k), int(k));
+  keep_tangent(k, rec);
   guess_ = nullptr, guess_continues_ = false, guess_predicted_ = false;
   shortcut_ = false;
   if (!mp.virgin.empty() && mp.virgin[k])
@@ -388,20 +393,27 @@ bool Stepper::shortcut_applies(std::size_t k) const {
 }
 
 // Warm start of the shortcut's corrective solve: the previous row's p* = p - |tau| / mu (from
-// p itself the solve starts a whole segment away, slower than incremental steps), extrapolated
-// along the secant through the row before it, p*_start = p*_1 + r (p*_1 - p*_2), r the ratio
-// of the load increments (p* is a function of Q* or delta*, both linear in the path's target):
-// exact while the stick set holds, where p* is linear in the load. Both rows come from the
-// state and the checkpointed p*_2, so a resumed run starts every solve where the uninterrupted
-// one did. Error-controlled steps (load.tolerance) solve sub-steps between the path's rows,
-// whose loads the path's ratio does not describe: they start from p*_1 alone.
-Field Stepper::shortcut_start(int k) {
+// p itself the solve starts a whole segment away, slower than incremental steps), followed
+// along the loading curve's tangent at that row, p*_start = p*_1 - psi dU / mu with psi the
+// row's k_x solution (dp*/dU = -psi / mu, secant_stiffness_start) and dU the shift to this
+// row's load (tangent_shift), else extrapolated along the secant through the row before it,
+// p*_start = p*_1 + r (p*_1 - p*_2), r the ratio of the load increments (p* is a function of
+// Q* or delta*, both linear in the path's target). Both are exact while the stick set holds,
+// where p* is linear in the load; the tangent also holds at the row's own set where the secant
+// averages over the nodes that left in between. psi and p*_2 are checkpointed, so a resumed run
+// starts every solve where the uninterrupted one did. Error-controlled steps (load.tolerance)
+// solve sub-steps between the path's rows, whose loads the path's ratio does not describe: they
+// start from p*_1 alone.
+Field Stepper::shortcut_start(int k, double target) {
   const Material& mat = model_.scenario.material;
   Field p_star = (state_.pressure - state_.traction[0].abs() / mat.mu).max(0.0);
   Field start = p_star;
   const std::vector<LoadStep>& steps = model_.path.steps;
   const bool rows = model_.scenario.load.tolerance <= 0.0;
-  if (rows && k >= 2 && shortcut_p_star_.size() == p_star.size()) {
+  const double dU = rows ? tangent_shift(k, target) : std::numeric_limits<double>::quiet_NaN();
+  if (std::isfinite(dU)) {
+    start = (p_star - (dU / mat.mu) * shortcut_psi_).max(0.0);
+  } else if (rows && k >= 2 && shortcut_p_star_.size() == p_star.size()) {
     const Vec2 e = model_.tangential_operator->direction();
     const LoadStep &a = steps.at(k - 2), &b = steps.at(k - 1), &c = steps.at(k);
     const double db = e.dot(b.target - a.target), dc = e.dot(c.target - b.target);
@@ -411,6 +423,28 @@ Field Stepper::shortcut_start(int k) {
   }
   shortcut_p_star_ = std::move(p_star);
   return start;
+}
+
+// The shift (m) from the last row to row k's load `target` (its magnitude: a shift, or a force
+// converted by the last row's k_x = sum psi h^2, the tangent dF_t/dU): NaN without a tangent.
+double Stepper::tangent_shift(int k, double target) const {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (shortcut_psi_.size() != state_.pressure.size()) return nan;
+  const double U0 = std::abs(model_.tangential_operator->direction().dot(state_.shift));
+  if (model_.path.steps.at(std::size_t(k)).control != Control::force) return target - U0;
+  std::array<double, 2> sums{state_.traction[0].sum(), shortcut_psi_.sum()};
+  model_.half_space->communicator().sum(sums);
+  const double area = model_.half_space->grid().cell_area();
+  const double kx = sums[1] * area, F0 = std::abs(sums[0]) * area;
+  return kx > 0.0 ? (target - F0) / kx : nan;
+}
+
+// After row k: its k_x solution when row k + 1 is a shortcut row (the tangent its corrective
+// solve starts along), nothing otherwise (no k_x at this row, a reused set).
+void Stepper::keep_tangent(std::size_t k, const StepRecord& rec) {
+  const Field* psi = model_.stiffness ? model_.stiffness->solution() : nullptr;
+  const bool next = k + 1 < steps() && shortcut_applies(k + 1);
+  shortcut_psi_ = next && psi && !std::isnan(rec.kx) ? *psi : Field();
 }
 
 // K p of the current pressure, the shortcut's p(F_z): one product per normal solution.
@@ -435,7 +469,7 @@ void Stepper::shortcut_step(const LoadStep& ls, StepRecord& rec) {
   const double sign = target < 0.0 ? -1.0 : 1.0;
   NormalSolver& ns = model_.corrective ? *model_.corrective : *model_.normal;
   const double U0 = std::abs(e.dot(state_.shift));
-  const Field p_star0 = shortcut_start(rec.step);
+  const Field p_star0 = shortcut_start(rec.step, std::abs(target));
   const ShortcutResult r =
       ls.control == Control::force
           ? ciavarella_jaeger_force(ns, model_.surface, state_.pressure, state_.normal_force,
@@ -454,21 +488,32 @@ void Stepper::shortcut_step(const LoadStep& ls, StepRecord& rec) {
   rec.tangential_residual = r.corrective.residual;
   last_target_ = op.to_local(ls.target * (ls.control == Control::force ? scale : 1.0));
   accumulate_slip(u0, nullptr, dU, rec);  // constant normal load: the bound did not move
-  kx_start_ = secant_stiffness_start(shortcut_p_star_, U0);
+  kx_start_ = stiffness_start(U0);
 }
 
 // The k_x solve's start on a shortcut row: C psi = e_x on the stick set is, under the analogy
 // (C = (E*/G*) K), the corrective problem's K psi' = 1 on its contact set with
 // psi' = (E*/G*) psi, and dp*/d delta* solves that where the set holds. With
 // delta* = delta - U / (mu E*/G*) (eq. 19), psi = -mu dp*/dU, taken along the secant from the
-// row before (p*_1, U_1) to this one: exact while the stick set holds, and a function of the
-// checkpointed state alone, so a resumed run solves k_x from the start the uninterrupted did.
+// row before (p*_1, U_1) to this one: exact while the stick set holds.
 Field Stepper::secant_stiffness_start(const Field& p_star_before, double U_before) const {
   const double dU = std::abs(model_.tangential_operator->direction().dot(state_.shift)) - U_before;
   if (p_star_before.size() != state_.pressure.size() || !(dU > 0.0)) return Field();
   const double mu = model_.scenario.material.mu;
   const Field p_star = (state_.pressure - state_.traction[0].abs() / mu).max(0.0);
   return (mu / dU) * (p_star_before - p_star);
+}
+
+// The secant s is the mean of the tangent psi over the row's interval, the tangent at its
+// midpoint where psi varies linearly with U: with the row before's psi_1 (its k_x solution)
+// at hand, psi ~ 2 s - psi_1 at this row (exact where psi is linear in U over the two rows;
+// the solve restricts it to this row's stick set). Fewer k_x products than from s
+// (docs/performance.md, "Paper-ensemble member"). Built from the checkpointed p*_1 and psi_1
+// and the state, so a resumed run solves k_x from the start the uninterrupted did.
+Field Stepper::stiffness_start(double U_before) const {
+  Field start = secant_stiffness_start(shortcut_p_star_, U_before);
+  if (start.size() > 0 && shortcut_psi_.size() == start.size()) start = 2.0 * start - shortcut_psi_;
+  return start;
 }
 
 // Slip increment s = dU - (u - u0) per slip node (stick nodes do not slip: what the solver

@@ -38,6 +38,10 @@ class StiffnessSolver {
   /// `start` (component 0, on the grid; ignored when empty): the CG's start instead, imaged by
   /// one product; the result then depends on (state, start) alone: no reuse of a known set.
   StiffnessResult solve(const StateField& state, const Field* start = nullptr);
+  /// The last solve's psi (component 0, Pa/m: the traction per unit shift on the stick nodes,
+  /// zero elsewhere), or null when that solve ran no CG (a reused set, no stick node, a rigid
+  /// periodic interface).
+  const Field* solution() const { return solved_ ? &psi_[0] : nullptr; }
 
  private:
   class Iteration;  // the CG problem of one solve (stiffness.cpp)
@@ -61,6 +65,7 @@ class StiffnessSolver {
   };
   std::deque<Known> known_;
   std::int64_t solves_ = 0;
+  bool solved_ = false;  ///< the last solve() ran the CG: psi_ is its solution
 };
 
 }  // namespace fretbem

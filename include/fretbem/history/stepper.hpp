@@ -110,8 +110,11 @@ class Stepper {
   StepStart step_start(const StateField& before, const VecField& tau0);
   bool shortcut_applies(std::size_t k) const;
   void shortcut_step(const LoadStep& ls, StepRecord& rec);
-  Field shortcut_start(int k);
+  Field shortcut_start(int k, double target);
+  double tangent_shift(int k, double target) const;
+  void keep_tangent(std::size_t k, const StepRecord& rec);
   Field secant_stiffness_start(const Field& p_star_before, double U_before) const;
+  Field stiffness_start(double U_before) const;
   const Field& pressure_displacement();
   [[noreturn]] void fail(const StepRecord& rec, const SolverError& e, FailedSolve f) const;
   void accumulate_slip(const VecField& u0, const VecField* tau0, const Eigen::VectorXd& dU,
@@ -196,8 +199,13 @@ class Stepper {
   /// p* (Pa) of the row before the last on the shortcut's segment: the secant start's second
   /// point (checkpointed; empty off the segment).
   Field shortcut_p_star_;
-  /// The shortcut row's secant tangent -dp*/dU (Pa/m, times mu): the k_x solve's start, from
-  /// the row and the one before it (both in the checkpoint); empty off the shortcut's rows.
+  /// The k_x solve's psi (Pa/m) of the last row when the next row is a shortcut row: the
+  /// loading curve's tangent -mu dp*/dU there, the next corrective solve's start
+  /// (checkpointed; empty otherwise).
+  Field shortcut_psi_;
+  /// The shortcut row's tangent -dp*/dU (Pa/m, times mu) extrapolated from the secant to the
+  /// row before and that row's psi (stiffness_start, all in the checkpoint): the k_x solve's
+  /// start; empty off the shortcut's rows.
   Field kx_start_;
   /// Coupling::coupled: tangential displacement (m) of the pressure at the end of the last
   /// step (the start of this one); empty until first needed (and after a restore).
