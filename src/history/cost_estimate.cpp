@@ -47,6 +47,7 @@ MemoryEstimate estimate_memory(const Scenario& sc, bool cycle_predictor) {
   MemoryEstimate m;
   m.program = MemoryCosts::kProgramBytes;
   m.solver = cells * (two ? MemoryCosts::kSolverTwoComponents : MemoryCosts::kSolverOneComponent);
+  if (sc.solver.monotone == MonotoneMethod::shortcut) m.solver += cells * MemoryCosts::kShortcut;
   // Two traction components double what the predictor remembers and starts from.
   if (cycle_predictor) m.predictor = cells * MemoryCosts::kPredictor * (two ? 2.0 : 1.0);
   if (masing_possible(sc, two)) m.masing = cells * MemoryCosts::kMasing;

@@ -41,6 +41,11 @@ struct MemoryCosts {
   /// Two tangential components or the Cerruti/coupled spectra: the Cattaneo ramp's 1.6x of
   /// one component at n = 512, on the one-component figure.
   static constexpr double kSolverTwoComponents = 1100.0;
+  /// solver.monotone = shortcut: the corrective pressures and the tangent start's k_x solution
+  /// kept between rows (and their checkpoint copies). A rough_monotone.ini member at n = 512
+  /// peaked at 217.2 MiB with the tangent start against 209.1 MiB without, 32 bytes per cell:
+  /// twice that, the margin the other shares keep.
+  static constexpr double kShortcut = 64.0;
   /// The cycle predictor, measured as the peak RSS of a 2-cycle Mindlin run over the same run
   /// with solver.predictor = none less the Masing image's share: 378 (n = 128) and 516
   /// (n = 512) bytes per cell, far above its table's bound (CyclePredictor::kBytesPerCell):
