@@ -141,9 +141,11 @@ OdeRun::OdeRun(Model& model, WearCycles& cyc, Observer& log, WearIntegrator kind
                                                         cyc_.simulated(), rep_.history.front());
     log_.expect(e.low, e.high);
   }
-  if (implicit_)
+  if (implicit_) {
     d_.pre = std::make_unique<WearPreconditioner>(*model_.half_space,
                                                   model_.path.steps.front().normal.force_control);
+    d_.memo = std::make_unique<MapMemo>();
+  }
   it_.implicit = implicit_;
   create(it_, y_, sun_.ctx, d_, std::min(cap_, N_end_));
   // A resumed run restarts a fresh integrator at (N, W) with the step it was about to try.

@@ -19,23 +19,30 @@ SunContext::~SunContext() {
   SUNContext_Free(&ctx);
 }
 
-// dW/dN = w(z0 - W): one steady cycle on the current surface per evaluation. Exceptions
-// cannot cross the C library: kept and rethrown after ARKODE returns.
+// dW/dN = w(z0 - W): one steady cycle on the current surface per evaluation, or the rate an
+// earlier evaluation found on the same worn depth (implicit mode, MapMemo). Exceptions cannot
+// cross the C library: kept and rethrown after ARKODE returns.
 int wear_rhs(realtype N, N_Vector y, N_Vector ydot, void* user) {
   auto& d = *static_cast<OdeData*>(user);
   try {
     // Worn depth is never negative; an implicit method's Newton iterates may overshoot below
     // zero (material added), which would raise a node above the unworn surface.
     const Field W = slab(d, y).max(0.0);
+    const Communicator& comm = d.model.half_space->communicator();
+    if (const Field* rate = d.memo && !d.probing ? d.memo->find(W, comm) : nullptr) {
+      slab(d, ydot) = *rate;
+      return 0;
+    }
     WearCycle c = d.cyc.steady(N, W);
     slab(d, ydot) = c.rate;
+    if (d.memo && !d.probing) d.memo->keep(W, c.rate);
     if (d.pre && !d.probing) {
       d.base_pressure = d.cyc.pressure();
       d.base_rate = c.rate;
       ++d.base_generation;
     }
     d.step_max_slip = std::max(d.step_max_slip, c.max_slip);
-    c.worn_hash = fingerprint(W, d.model.half_space->communicator());
+    c.worn_hash = fingerprint(W, comm);
     // Logged once the step is done and its accepted state known (flush_step).
     keep(d.rep, std::move(c));
     return 0;

@@ -13,6 +13,7 @@
 
 #include "fretbem/wear/integrator.hpp"
 #include "fretbem/wear/preconditioner.hpp"
+#include "map_memo.hpp"
 
 namespace fretbem::wear_detail {
 
@@ -40,6 +41,8 @@ struct OdeData {
   bool probing = false;
   Field base_pressure, base_rate;
   long base_generation = 0, linearised_generation = -1;
+  // Implicit mode: the latest evaluation, which a repeated iterate is answered from.
+  std::unique_ptr<MapMemo> memo;
 };
 
 /// This rank's slab of a grid vector (nx, local rows), in place.
