@@ -1,5 +1,6 @@
 // Error-controlled load steps (load.tolerance, history/step_control.hpp): an asked tolerance
-// met against a step-converged reference, rows that stay the user's rows, steps at constant
+// met against a step-converged reference, in the first period too, at no more convolutions than
+// the cheapest fixed split that meets it, rows that stay the user's rows, steps at constant
 // normal load never subdivided, and a resumed run that repeats the uninterrupted one.
 #include <gtest/gtest.h>
 #include <unistd.h>
