@@ -348,6 +348,16 @@ void expect_first_peak(const fs::path& serial, const fs::path& dir) {
   EXPECT_EQ(found, 2) << dir << ": the turning points t = 1/2 and 3/2";
 }
 
+// ARGS (rows in sub-steps) serially into D/serial and on two ranks into D/mpi: the same run, the
+// fields to kSubstepFields and k_x to kLayoutKx.
+void expect_sub_stepped_two_ranks(const fs::path& d, const std::string& args) {
+  const Result s = run(0, args, d, "serial");
+  ASSERT_EQ(s.status, 0) << s.err;
+  const Result m = run(2, args, d, "mpi");
+  ASSERT_EQ(m.status, 0) << m.err;
+  expect_same_run(d / "serial", d / "mpi", kLayoutKx, kSubstepFields);
+}
+
 }  // namespace
 
 // load.interpolation = cubic on a table whose normal load varies (20 rows a period of the
@@ -360,17 +370,26 @@ void expect_first_peak(const fs::path& serial, const fs::path& dir) {
 TEST(RunMpi, CubicTableOnTwoRanksEqualsSerialAndResumes) {
   const fs::path d = scratch("run_mpi_cubic");
   const std::string args = sine_table_scenario(d, 20, "cubic");
-  const Result s = run(0, args, d, "serial");
-  ASSERT_EQ(s.status, 0) << s.err;
-  const Result m = run(2, args, d, "mpi");
-  ASSERT_EQ(m.status, 0) << m.err;
-  expect_same_run(d / "serial", d / "mpi", kLayoutKx, kSubstepFields);
+  expect_sub_stepped_two_ranks(d, args);
   stop_and_resume(d, args + " --stop-after 11", 2, 2, "stopped2_resumed2", kLayoutKx,
                   kSubstepFields);
   stop_and_resume(d, args + " --stop-after 21", 2, 0, "stopped2_resumed0", kLayoutKx,
                   kSubstepFields);
   for (const char* out : {"mpi", "stopped2_resumed2", "stopped2_resumed0"})
     expect_first_peak(d / "serial", d / out);
+}
+
+// load.tolerance on the same table (16 rows a period, linear), where every row's normal load
+// varies: the sub-steps of each row come from the estimate summed over every rank's nodes and
+// from the period's rate (history/step_control.hpp), alike on every layout. Two ranks equal
+// the serial run; stopped on two ranks within the first period (the rate not yet a whole
+// period's: rows may be solved again) and resumed on two ranks, too.
+TEST(RunMpi, StepControlOnAVaryingTableOnTwoRanksEqualsSerialAndResumes) {
+  const fs::path d = scratch("run_mpi_step_control_table");
+  const std::string args = sine_table_scenario(d, 16, "linear") + " --set load.tolerance=1e-3";
+  expect_sub_stepped_two_ranks(d, args);
+  stop_and_resume(d, args + " --stop-after 7", 2, 2, "stopped2_resumed2", kLayoutKx,
+                  kSubstepFields);
 }
 
 // The table reaches |F_x| = 0.5 mu P at two turning points a period, after different F_z

@@ -1,5 +1,6 @@
 // Error-controlled load steps (load.tolerance, history/step_control.hpp): an asked tolerance
-// met against a step-converged reference, rows that stay the user's rows, steps at constant
+// met against a step-converged reference, in the first period too, at no more convolutions than
+// the cheapest fixed split that meets it, rows that stay the user's rows, steps at constant
 // normal load never subdivided, and a resumed run that repeats the uninterrupted one.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -13,6 +14,7 @@
 #include <sstream>
 
 #include "fretbem/core/errors.hpp"
+#include "fretbem/core/format.hpp"
 #include "fretbem/history/load_spline.hpp"
 #include "fretbem/history/step_control.hpp"
 #include "fretbem/run/run.hpp"
@@ -46,11 +48,11 @@ double load_P() {
   return fretbem_test::unit_hertz_force();
 }
 
-// Dissipation over the second period (time in (1, 2]) of the varying table sampled at `rows`
+// Dissipation over period `cycle` (0: time in (0, 1]) of the varying table sampled at `rows`
 // rows a period, each interval split in `split` rows; rows_out: the number of rows written,
 // convolutions: those of the run.
-double second_period_dissipation(int rows, int split, const std::string& extra_load,
-                                 std::size_t* rows_out = nullptr, long* convolutions = nullptr) {
+double period_dissipation(int cycle, int rows, int split, const std::string& extra_load,
+                          std::size_t* rows_out = nullptr, long* convolutions = nullptr) {
   std::string tag = "table";
   tag += std::to_string(rows) + "_" + std::to_string(split);
   const fs::path table = temp_path(tag) += ".csv";
@@ -62,7 +64,13 @@ double second_period_dissipation(int rows, int split, const std::string& extra_l
     *convolutions = 0;
     for (const StepRecord& row : r) *convolutions += row.convolutions;
   }
-  return fretbem_test::cycle_energy(r, 1).nodal;
+  return fretbem_test::cycle_energy(r, cycle).nodal;
+}
+
+// The same over the second period (time in (1, 2]).
+double second_period_dissipation(int rows, int split, const std::string& extra_load,
+                                 std::size_t* rows_out = nullptr, long* convolutions = nullptr) {
+  return period_dissipation(1, rows, split, extra_load, rows_out, convolutions);
 }
 
 }  // namespace
@@ -393,6 +401,50 @@ TEST(StepControl, MeetsATenTimesTighterTolerance) {
   const double d = second_period_dissipation(16, 1, "tolerance = 1e-4\n", nullptr, &conv);
   std::printf("tolerance 1e-4: %+.3e, %ld convolutions\n", d / limit - 1, conv);
   EXPECT_LT(std::abs(d / limit - 1), 1e-4);
+}
+
+// At 1e-4 the error-controlled run costs no more convolutions (the work of a run, whatever the
+// machine's load) than the fewest rows a period, 16 x 2^j, that meet the tolerance in the
+// second period, each row solved once from the cycle predictor's start. Both counts are the
+// whole run's (two periods).
+TEST(StepControl, CostsNoMoreThanTheCheapestFixedSplitThatMeetsTheTolerance) {
+  const double d16 = second_period_dissipation(16, 16, kOneSolve),
+               d32 = second_period_dissipation(16, 32, kOneSolve);
+  const double limit = d32 + (d32 - d16) / 3.0;
+  long fixed = 0;
+  int split = 1;
+  for (; split <= 16; split *= 2) {
+    const double d = second_period_dissipation(16, split, kOneSolve, nullptr, &fixed);
+    std::printf("split %d: %+.3e, %ld convolutions\n", split, d / limit - 1, fixed);
+    if (std::abs(d / limit - 1) < 1e-4) break;
+  }
+  ASSERT_LE(split, 16);
+  long controlled = 0;
+  const double d = second_period_dissipation(16, 1, "tolerance = 1e-4\n", nullptr, &controlled);
+  std::printf("tolerance 1e-4: %+.3e, %ld convolutions\n", d / limit - 1, controlled);
+  EXPECT_LT(std::abs(d / limit - 1), 1e-4);
+  EXPECT_LE(controlled, fixed);
+}
+
+// The first period too meets the asked tolerance: it has no period before it to take its
+// sub-steps from, and the table starts at its first row (no lead-in). Against the first
+// period's own step limit (Richardson from 16 and 32 rows per row, agreeing to 1e-4), at 1e-3
+// and at 1e-4; the 16 rows solved once miss both.
+TEST(StepControl, MeetsTheToleranceInTheFirstPeriod) {
+  const double d16 = period_dissipation(0, 16, 16, kOneSolve),
+               d32 = period_dissipation(0, 16, 32, kOneSolve);
+  const double limit = d32 + (d32 - d16) / 3.0;
+  ASSERT_LT(std::abs(d32 / d16 - 1), 1e-4);
+  const double fixed = period_dissipation(0, 16, 1, kOneSolve) / limit - 1;
+  std::printf("first period: limit %.6e J, 16 rows %+.3e\n", limit, fixed);
+  EXPECT_GT(std::abs(fixed), 1e-3);
+  for (double tolerance : {1e-3, 1e-4}) {
+    long conv = 0;
+    const double d = period_dissipation(0, 16, 1, "tolerance = " + format_number(tolerance) + "\n",
+                                        nullptr, &conv);
+    std::printf("tolerance %g: %+.3e, %ld convolutions\n", tolerance, d / limit - 1, conv);
+    EXPECT_LT(std::abs(d / limit - 1), tolerance) << tolerance;
+  }
 }
 
 // At constant normal load the increment does not depend on the step: a run with

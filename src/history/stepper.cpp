@@ -50,11 +50,13 @@ std::size_t Stepper::run(const std::vector<Observer*>& observers, std::size_t ma
 }
 
 StepperMemory Stepper::memory() const {
-  StepperMemory m{next_, last_normal_, last_target_, dissipation_, wear_volume_, {}, {}, {}, {}};
+  StepperMemory m{next_, last_normal_, last_target_, dissipation_, wear_volume_,
+                  {},    {},           {},           {},           {}};
   if (bound_.size() > 0) m.fields["bound"] = bound_;
   m.masing = masing_.flatten();
   if (model_.scenario.load.tolerance > 0.0) {
-    m.step_estimate = {estimate_memory_.span, error_rate_};
+    m.step_estimate = {estimate_memory_.span, period_rate_.flatten()[0]};
+    m.step_period = period_rate_.flatten();
     m.fields["step_bound_change"] = estimate_memory_.bound_change;
     m.fields["step_slip"] = estimate_memory_.slip;
   }

@@ -173,6 +173,7 @@ void write_memory(hid_t f, const StepperMemory& m) {
   write_memory_fields(f, m.fields);
   if (!m.masing.empty()) write_vector(f, "masing", m.masing);
   if (!m.step_estimate.empty()) write_vector(f, "step_estimate", m.step_estimate);
+  if (!m.step_period.empty()) write_vector(f, "step_period", m.step_period);
   if (!m.step_before.empty()) write_vector(f, "step_before", m.step_before);
 }
 
@@ -377,6 +378,7 @@ StepperMemory read_memory(const Reader& r) {
   m.last_target = Eigen::Map<const Eigen::VectorXd>(t.data() + 1, Eigen::Index(nt));
   if (r.exists("masing")) m.masing = r.array("masing", nullptr);
   if (r.exists("step_estimate")) m.step_estimate = r.vector("step_estimate", 2);
+  if (r.exists("step_period")) m.step_period = r.vector("step_period", PeriodRate::kValues);
   if (r.exists("step_before")) m.step_before = r.vector("step_before", 2);
   if (!r.exists(kMemoryFields)) return m;
   std::istringstream names(r.text(kMemoryFields));

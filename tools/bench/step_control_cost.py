@@ -17,7 +17,8 @@ Fixed runs split every interval of it into s equal rows; the step limit of the t
 dissipation is Richardson (order 2) from the two largest splits. Error-controlled runs use the
 N-row table with load.tolerance. Per run: the third period's dissipated_energy, its error
 against the limit, the CPU seconds of the run (user + system), the convolutions of the run and
-the cycle's step_error. Prints CSV.
+the cycle's step_error; then the same of the first period (cycle 0), scored against its own
+limit. Prints CSV.
 Fixed runs solve each row once (load.substeps = 1); with --substeps K[,K2,...] every row
 whose normal load changes in K sub-steps, one run per split and K (made also with --limit, and
 scored against it): N s rows a period of K steps each, the path in N s K steps a period.
@@ -122,10 +123,17 @@ def run(binary, work, case, rows, split, tolerance, cubic=False, substeps=1):
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     with open(os.path.join(out, "cycles.csv")) as f:
-        cycle = [r for r in csv.DictReader(f) if r["cycle"] == "2"][0]
+        cycles = {r["cycle"]: r for r in csv.DictReader(f)}
     with open(os.path.join(out, "timeseries.csv")) as f:
         conv = sum(int(float(r["convolutions"])) for r in csv.DictReader(f))
-    return float(cycle["dissipated_energy"]), cpu, conv, float(cycle["step_error"])
+    third, first = cycles["2"], cycles["0"]
+    return (float(third["dissipated_energy"]), cpu, conv, float(third["step_error"]),
+            float(first["dissipated_energy"]), float(first["step_error"]))
+
+
+def richardson(d1, d2):
+    """The order-2 limit from the dissipations of h and h/2."""
+    return d2 + (d2 - d1) / 3.0
 
 
 def main():
@@ -136,6 +144,7 @@ def main():
     ap.add_argument("--splits", default="1,2,4,8")
     ap.add_argument("--tolerances", default="1e-2,1e-3,5e-4,1e-4")
     ap.add_argument("--limit", type=float, help="known step limit (J): no fixed runs")
+    ap.add_argument("--first-limit", type=float, help="known step limit of the first period (J)")
     ap.add_argument("--interpolation", choices=["linear", "cubic"], default="linear")
     ap.add_argument("--substeps", default="1", help="load.substeps of the fixed runs: K[,K2...]")
     ap.add_argument("--n", type=int, help="grid.n instead of the case's")
@@ -154,25 +163,27 @@ def main():
             (s, k): run(a.fretbem, work, a.case, a.rows, s, 0.0, cubic, k)
             for s in splits for k in ks}
         if a.limit:
-            limit = a.limit
-            print("# %s, %d rows a period; limit %.6e J (given)" % (a.case, a.rows, limit))
+            limit, first_limit = a.limit, a.first_limit or a.limit
+            print("# %s, %d rows a period; limits %.6e, first period %.6e J (given)"
+                  % (a.case, a.rows, limit, first_limit))
         else:
             (s1, k1), (s2, k2) = list(fixed)[-2:]
-            d1, d2 = fixed[s1, k1][0], fixed[s2, k2][0]
-            limit = d2 + (d2 - d1) / 3.0
-            print("# %s, %d rows a period; limit %.6e J (Richardson from %d and %d steps a row)"
-                  % (a.case, a.rows, limit, s1 * k1, s2 * k2))
-        print("run,rows_per_period,dissipated_energy,error,cpu_s,convolutions,step_error")
+            limit, first_limit = (richardson(fixed[s1, k1][i], fixed[s2, k2][i]) for i in (0, 4))
+            print("# %s, %d rows a period; limits %.6e, first period %.6e J (Richardson from %d "
+                  "and %d steps a row)" % (a.case, a.rows, limit, first_limit, s1 * k1, s2 * k2))
+        print("run,rows_per_period,dissipated_energy,error,cpu_s,convolutions,step_error,"
+              "first_dissipated_energy,first_error,first_step_error")
+        row = "%s,%d,%.6e,%+.2e,%.1f,%d,%.2e,%.6e,%+.2e,%.2e"
         for s, k in fixed:
-            d, cpu, conv, est = fixed[s, k]
+            d, cpu, conv, est, d0, est0 = fixed[s, k]
             label = "fixed" if k == 1 else "substeps %d" % k
-            print("%s,%d,%.6e,%+.2e,%.1f,%d,%.2e" % (label, a.rows * s, d, d / limit - 1, cpu,
-                                                     conv, est))
+            print(row % (label, a.rows * s, d, d / limit - 1, cpu, conv, est, d0,
+                         d0 / first_limit - 1, est0))
             sys.stdout.flush()
         for t in tols:
-            d, cpu, conv, est = run(a.fretbem, work, a.case, a.rows, 1, t, cubic)
-            print("tolerance %g,%d,%.6e,%+.2e,%.1f,%d,%.2e" % (t, a.rows, d, d / limit - 1, cpu,
-                                                              conv, est))
+            d, cpu, conv, est, d0, est0 = run(a.fretbem, work, a.case, a.rows, 1, t, cubic)
+            print(row % ("tolerance %g" % t, a.rows, d, d / limit - 1, cpu, conv, est, d0,
+                         d0 / first_limit - 1, est0))
             sys.stdout.flush()
 
 

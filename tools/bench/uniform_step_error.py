@@ -27,7 +27,7 @@ def main():
     print("rows_per_period,error,step_error,ratio")
     with tempfile.TemporaryDirectory() as work:
         for split in (int(s) for s in a.splits.split(",")):
-            d, _, _, est = bench.run(a.fretbem, work, a.case, 32, split, 1e-2)
+            d, _, _, est, _, _ = bench.run(a.fretbem, work, a.case, 32, split, 1e-2)
             err = d / a.limit - 1
             print("%d,%+.3e,%.3e,%.2f" % (32 * split, err, est, est / abs(err)))
             sys.stdout.flush()

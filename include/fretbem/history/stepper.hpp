@@ -36,10 +36,13 @@ struct StepperMemory {
   std::map<std::string, Field> fields;
   /// MasingImage::flatten of the stepper's Masing image (empty: none recorded).
   std::vector<double> masing;
-  /// load.tolerance > 0: the duration (periods) of the last step and the estimate's running
-  /// rate (step_control.hpp); empty otherwise. The last step's bound change and
+  /// load.tolerance > 0: the duration (periods) of the last step and the estimate's rate in
+  /// force (step_control.hpp); empty otherwise. The last step's bound change and
   /// slip are the fields "step_bound_change" and "step_slip".
   std::vector<double> step_estimate;
+  /// load.tolerance > 0: PeriodRate::flatten, the rate in force and the period being booked
+  /// (step_control.hpp); empty otherwise.
+  std::vector<double> step_period;
   /// load.interpolation = cubic (three-point rule, step_before.cpp): the last step's span
   /// (periods) and 1 where it joins the next on the spline; its bound and pressure changes and
   /// through-slip are the fields "before_bound_change", "before_pressure_change", "before_slip".
@@ -133,6 +136,7 @@ class Stepper {
   };
   StepRecord advance_substepped(std::size_t k);
   double solve_substeps(const LoadStep& a, const LoadStep& b, int m, int k, StepRecord& last);
+  double solve_controlled(const LoadStep& a, const LoadStep& b, int k, StepRecord& last);
   StepRecord estimated_substep(const LoadStep& ls, int k, double span);
   void estimate_step();
   void restore_estimate_memory(const StepperMemory& m);
@@ -217,11 +221,9 @@ class Stepper {
   int substep_normal_iterations_ = 0, substep_tangential_iterations_ = 0;
   int substep_coupling_iterations_ = 0;
   EstimateMemory estimate_memory_;  ///< load.tolerance > 0: the step before the next one
-  /// The estimate's running rate (1/period^2; < 0: none yet): a row's relative estimate over
-  /// its span x its sub-step squared, averaged over about a period of rows.
-  double error_rate_ = -1.0;
-  bool estimated_ = false;        ///< the step being advanced booked an increment
-  double step_work_error_ = 0.0;  ///< its estimated work error (J)
+  PeriodRate period_rate_;          ///< load.tolerance > 0: the rate that sets a period's sub-steps
+  bool estimated_ = false;          ///< the step being advanced booked an increment
+  double step_work_error_ = 0.0;    ///< its estimated work error (J)
   bool depth_limit_said_ = false;
   StepBeforeMemory before_;          ///< the last step, as the next one's quadrature reads it
   double last_time_ = 0.0;           ///< the time the last step ended at (periods)
