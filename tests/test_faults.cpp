@@ -949,9 +949,9 @@ TEST_F(Faults, FailedOverwriteKeepsTheResultsItReplaces) {
   expect_same_rows(ref, d);
 }
 
-// A run with --overwrite that is stopped keeps its checkpoint and the results it replaces;
-// resumed to the end it removes them and equals an uninterrupted run; a resume that fails
-// (its checkpoint damaged) puts them back.
+// A run with --overwrite that is stopped (--stop-after, SIGTERM) keeps its checkpoint and the
+// results it replaces; resumed to the end it removes them and equals an uninterrupted run; a
+// resume that fails (its checkpoint damaged) puts them back.
 TEST_F(Faults, StoppedOverwriteKeepsTheResultsUntilItFinishes) {
   const fs::path ref = light(), d = dir_ / "stopped";
   ASSERT_EQ(run("run " + kScenario + kLight + " --stop-after 20 --out " + d.string(), dir_).code,
@@ -967,9 +967,15 @@ TEST_F(Faults, StoppedOverwriteKeepsTheResultsUntilItFinishes) {
   ASSERT_EQ(run("run --resume " + d.string() + " --quiet", dir_).code, 0);
   EXPECT_FALSE(fs::exists(d / ".fretbem-replaced"));
   expect_same_rows(ref, d);
-  // Stopped again, its checkpoint cut short: the resume is refused and the results put back.
+  // Stopped again by SIGTERM (pending at its start: it stops after step 0), its checkpoint
+  // then cut short: the resume is refused and the results put back.
   const auto finished = run_files(d);
-  ASSERT_EQ(run(stopped, dir_).code, 0);
+  const int code = fretbem_test::wait_exit(fretbem_test::spawn_with_pending_signal(
+      SIGTERM,
+      {kBin, "run", kScenario, "--quiet", "--set", "grid.n=16", "--overwrite", "--out", d.string()},
+      dir_ / "signal.out", dir_ / "signal.err"));
+  ASSERT_EQ(code, 128 + SIGTERM) << slurp(dir_ / "signal.err");
+  EXPECT_TRUE(run_files(d / ".fretbem-replaced") == finished);
   fs::resize_file(d / "checkpoint.h5", fs::file_size(d / "checkpoint.h5") / 2);
   const Result r = run("run --resume " + d.string() + " --quiet", dir_);
   EXPECT_EQ(r.code, 2) << r.err;
