@@ -207,6 +207,16 @@ TEST_F(Faults, FullDiskKeepsLastGoodCheckpoint) {
   }
 }
 
+// Mounts at `mnt` a tmpfs with room for the files of `folder` and `extra_kib` KiB more (root
+// only); false when it cannot.
+bool mount_room_for(const fs::path& folder, std::uintmax_t extra_kib, const fs::path& mnt) {
+  std::uintmax_t bytes = 0;
+  for (const auto& e : fs::directory_iterator(folder)) bytes += fs::file_size(e.path());
+  fs::create_directories(mnt);
+  const std::string size = "size=" + std::to_string(bytes / 1024 + extra_kib) + "k";
+  return ::mount("tmpfs", mnt.c_str(), "tmpfs", 0, size.c_str()) == 0;
+}
+
 // A resume on a disk too full to rebuild result.h5 stops with one line and exit 1 (it crashed
 // inside HDF5) and leaves the run's files as they were.
 TEST_F(Faults, ResumeOnFullDiskLeavesTheRunAsItWas) {
@@ -214,12 +224,7 @@ TEST_F(Faults, ResumeOnFullDiskLeavesTheRunAsItWas) {
   const fs::path part = dir_ / "part", mnt = dir_ / "tmpfs";
   ASSERT_EQ(
       run("run " + kScenario + kQuick + " --stop-after 150 --out " + part.string(), dir_).code, 0);
-  std::uintmax_t bytes = 0;
-  for (const auto& e : fs::directory_iterator(part)) bytes += fs::file_size(e.path());
-  fs::create_directories(mnt);
-  const std::string size = "size=" + std::to_string(bytes / 1024 + 40) + "k";
-  if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, size.c_str()) != 0)
-    GTEST_SKIP() << "cannot mount a tmpfs here";
+  if (!mount_room_for(part, 40, mnt)) GTEST_SKIP() << "cannot mount a tmpfs here";
   fs::copy(part, mnt / "r");
   const std::string before = slurp(mnt / "r" / "result.h5");
   const Result r = run("run --resume " + (mnt / "r").string() + " --quiet", dir_);
@@ -886,36 +891,148 @@ std::map<std::string, std::string> folder_bytes(const fs::path& dir) {
   return out;
 }
 
-// A run with --overwrite that fails before its first checkpoint leaves the results it was to
-// replace as they were, byte for byte (not header-only CSVs, no checkpoint and a near-empty
-// result.h5): refused at step 0 for a contact on the grid edge (exit 2), or a
-// normal solve that fails at step 0 (exit 3). A stopped run so kept still resumes.
+// The run files of a folder, by name, with their bytes: the folders a replacement keeps
+// beside them (.fretbem-failed, .fretbem-replaced) and the lock left out.
+std::map<std::string, std::string> run_files(const fs::path& dir) {
+  auto out = folder_bytes(dir);
+  for (const char* other : {".fretbem-failed", ".fretbem-replaced", ".fretbem.lock"})
+    out.erase(other);
+  return out;
+}
+
+// A table run of a sphere whose normal force jumps at its last row (step 4) so far that the
+// contact reaches the grid edge: it fails (exit 2) after checkpoints at steps 0 to 3.
+std::string late_failing_run(const fs::path& scratch) {
+  const fs::path ini = scratch / "late.ini";
+  std::ofstream(ini) << "[material]\nE = 210e9\nnu = 0.3\nmu = 0.5\n[grid]\nn = 16\n"
+                        "length = 2.8e-4\n[surface]\ntype = sphere\nradius = 0.01\n"
+                        "[load]\npath = table\ntable = late.csv\n[output]\ncheckpoint_every = 1\n";
+  std::ofstream(scratch / "late.csv")
+      << "time,Fz,Fx\n0,10,0\n0.25,10,2\n0.5,10,0\n0.75,10,-2\n1,2000,0\n";
+  return "run " + ini.string() + " --quiet";
+}
+
+// A run with --overwrite that fails leaves the results it was to replace as they were, byte
+// for byte, and its own files in DIR/.fretbem-failed, the error line naming it: refused at
+// step 0 for a contact on the grid edge (exit 2), a normal solve that fails at step 0 (exit 3,
+// its inputs saved beside its files), and a run that fails at step 4, after checkpoints.
+// The results so kept still resume.
 TEST_F(Faults, FailedOverwriteKeepsTheResultsItReplaces) {
-  const fs::path ref = light(), d = dir_ / "kept";
+  const fs::path ref = light(), d = dir_ / "kept", failed = d / ".fretbem-failed";
   ASSERT_EQ(run("run " + kScenario + kLight + " --stop-after 50 --out " + d.string(), dir_).code,
             0);
-  const auto before = folder_bytes(d);
+  const auto before = run_files(d);
   const std::string again = "run " + kScenario + kLight + " --overwrite --out " + d.string();
   Result r = run(again + " --set load.normal_force=2000", dir_);
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("step 0: "), std::string::npos) << r.err;
-  EXPECT_TRUE(folder_bytes(d) == before);
+  EXPECT_NE(r.err.find("put back, its own files are in " + failed.string()), std::string::npos)
+      << r.err;
+  EXPECT_TRUE(run_files(d) == before);
+  EXPECT_TRUE(fs::exists(failed / "timeseries.csv"));
   r = run(again + " --set solver.max_iterations=1", dir_);
   EXPECT_EQ(r.code, 3) << r.err;
-  auto after = folder_bytes(d);
-  EXPECT_EQ(after.erase("failed_solve.h5"), 1u);  // the failed run's report, named in its error
-  EXPECT_TRUE(after == before);
+  EXPECT_NE(r.err.find("its inputs are in " + (failed / "failed_solve.h5").string()),
+            std::string::npos)
+      << r.err;
+  EXPECT_TRUE(fs::exists(failed / "failed_solve.h5"));
+  EXPECT_TRUE(run_files(d) == before);
+  r = run(late_failing_run(dir_) + " --overwrite --out " + d.string(), dir_);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("step 4: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(failed.string()), std::string::npos) << r.err;
+  EXPECT_TRUE(run_files(d) == before);
+  EXPECT_TRUE(fs::exists(failed / "checkpoint.h5"));     // it failed after its checkpoints
+  EXPECT_FALSE(fs::exists(failed / "failed_solve.h5"));  // the older failed run's is gone
+  EXPECT_FALSE(fs::exists(d / ".fretbem-replaced"));
   ASSERT_EQ(run("run --resume " + d.string() + " --quiet", dir_).code, 0);
   expect_same_rows(ref, d);
-  // A run that reaches its checkpoint replaces them: no set-aside folder is left.
-  ASSERT_EQ(run(again + " --stop-after 1", dir_).code, 0);
-  EXPECT_EQ(rows_of(d / "timeseries.csv").size(), 2u);
-  EXPECT_FALSE(fs::exists(d / ".fretbem-replaced"));
 }
 
-// A run with --overwrite killed (SIGKILL) while setting the old results aside, or before its
-// first checkpoint, or after it: the next run or resume in the folder finds the states such
-// a kill leaves (replaced_results.hpp) and keeps one run's files, never a mix.
+// A run with --overwrite that is stopped (--stop-after, SIGTERM) keeps its checkpoint and the
+// results it replaces; resumed to the end it removes them and equals an uninterrupted run; a
+// resume that fails (its checkpoint damaged) puts them back.
+TEST_F(Faults, StoppedOverwriteKeepsTheResultsUntilItFinishes) {
+  const fs::path ref = light(), d = dir_ / "stopped";
+  ASSERT_EQ(run("run " + kScenario + kLight + " --stop-after 20 --out " + d.string(), dir_).code,
+            0);
+  const auto old = run_files(d);
+  const std::string stopped =
+      "run " + kScenario + kLight + " --overwrite --stop-after 30 --out " + d.string();
+  ASSERT_EQ(run(stopped, dir_).code, 0);
+  EXPECT_TRUE(run_files(d / ".fretbem-replaced") == old);
+  EXPECT_EQ(rows_of(d / "timeseries.csv").size(), 31u);  // header + steps 0 to 29
+  ASSERT_EQ(run("run --resume " + d.string() + " --quiet --stop-after 30", dir_).code, 0);
+  EXPECT_TRUE(run_files(d / ".fretbem-replaced") == old);
+  ASSERT_EQ(run("run --resume " + d.string() + " --quiet", dir_).code, 0);
+  EXPECT_FALSE(fs::exists(d / ".fretbem-replaced"));
+  expect_same_rows(ref, d);
+  // Stopped again by SIGTERM (pending at its start: it stops after step 0), its checkpoint
+  // then cut short: the resume is refused and the results put back.
+  const auto finished = run_files(d);
+  const int code = fretbem_test::wait_exit(fretbem_test::spawn_with_pending_signal(
+      SIGTERM,
+      {kBin, "run", kScenario, "--quiet", "--set", "grid.n=16", "--overwrite", "--out", d.string()},
+      dir_ / "signal.out", dir_ / "signal.err"));
+  ASSERT_EQ(code, 128 + SIGTERM) << slurp(dir_ / "signal.err");
+  EXPECT_TRUE(run_files(d / ".fretbem-replaced") == finished);
+  fs::resize_file(d / "checkpoint.h5", fs::file_size(d / "checkpoint.h5") / 2);
+  const Result r = run("run --resume " + d.string() + " --quiet", dir_);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("put back"), std::string::npos) << r.err;
+  EXPECT_TRUE(run_files(d) == finished);
+  EXPECT_TRUE(fs::exists(d / ".fretbem-failed" / "checkpoint.h5"));
+}
+
+// A run with --overwrite on a disk that fills after its first checkpoints (a tmpfs with room
+// for the old results and a little more, when root): exit 1 with one line naming the full
+// file and where the failed run's files went, the old results back byte for byte.
+TEST_F(Faults, FullDiskOverwriteKeepsTheResultsItReplaces) {
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root to mount a tmpfs";
+  const fs::path old = dir_ / "old", mnt = dir_ / "tmpfs", d = mnt / "r";
+  ASSERT_EQ(run("run " + kScenario + kLight + " --stop-after 50 --out " + old.string(), dir_).code,
+            0);
+  if (!mount_room_for(old, 150, mnt)) GTEST_SKIP() << "cannot mount a tmpfs here";
+  fs::copy(old, d);
+  const Result r = run("run " + kScenario + kQuick + " --overwrite --out " + d.string(), dir_);
+  const auto after = run_files(d);
+  const bool checkpointed = fs::exists(d / ".fretbem-failed" / "checkpoint.h5");
+  ::umount(mnt.c_str());
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("put back, its own files are in " + (d / ".fretbem-failed").string()),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_TRUE(after == run_files(old));
+  EXPECT_TRUE(checkpointed);  // it failed after its first checkpoint
+}
+
+// `ensemble --overwrite` runs its members with --overwrite: a member that fails leaves the
+// results it was to replace as they were and its own files in its .fretbem-failed.
+TEST_F(Faults, EnsembleOverwriteKeepsAFailedMembersResults) {
+  const fs::path out = dir_ / "e", member = out / "H0.5" / "seed_001";
+  const std::string cmd =
+      "ensemble " + (fs::path(FRETBEM_SOURCE_DIR) / "scenarios" / "rough_monotone.ini").string() +
+      " --hurst 0.5 --seeds 1 --quiet --set grid.n=16 --set load.steps=10 --out " + out.string();
+  ASSERT_EQ(run(cmd, dir_).code, 0);
+  const auto before = run_files(member);
+  ASSERT_TRUE(before.count("timeseries.csv"));
+  const Result r = run(cmd + " --overwrite --set solver.max_iterations=1", dir_);
+  EXPECT_EQ(r.code, 4) << r.err;
+  // The study's own files of the member (its status, its log) are rewritten; the run's not.
+  const auto without_study_files = [](std::map<std::string, std::string> files) {
+    files.erase("log.txt"), files.erase("sweep_member.txt");
+    return files;
+  };
+  EXPECT_TRUE(without_study_files(run_files(member)) == without_study_files(before));
+  EXPECT_TRUE(fs::exists(member / ".fretbem-failed" / "failed_solve.h5"));
+}
+
+// A run with --overwrite killed (SIGKILL) while setting the old results aside, while putting
+// them back, or before its first checkpoint, or after it: the next run or resume in the folder
+// finds the states such a kill leaves (replaced_results.hpp) and keeps one run's files, never a
+// mix; after a checkpoint the new run stays resumable and the results it replaces stay aside.
 TEST_F(Faults, KilledOverwriteIsSettledByTheNextRun) {
   const fs::path ref = light(), d = dir_ / "settle";
   const std::string stopped = "run " + kScenario + kLight + " --stop-after 50 --out " + d.string();
@@ -929,6 +1046,16 @@ TEST_F(Faults, KilledOverwriteIsSettledByTheNextRun) {
   EXPECT_EQ(r.code, 2) << r.err;  // the old results are back, and not overwritten unasked
   EXPECT_NE(r.err.find("holds the results of another run"), std::string::npos) << r.err;
   EXPECT_TRUE(folder_bytes(d) == old);
+  // Killed while putting them back after a failure: the checkpoint and the time series still in
+  // the restoring folder, the rest back in place of the new run's.
+  fs::create_directory(d / ".fretbem-restoring");
+  for (const char* f : {"checkpoint.h5", "timeseries.csv"})
+    fs::rename(d / f, d / ".fretbem-restoring" / f);
+  std::ofstream(d / "timeseries.csv") << "the failed run's\n";
+  r = run("run " + kScenario + kLight + " --out " + d.string(), dir_);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("holds the results of another run"), std::string::npos) << r.err;
+  EXPECT_TRUE(folder_bytes(d) == old);
   // Killed during the new run's step 0: all old files aside, the new run's first files here.
   fs::create_directory(d / ".fretbem-replaced");
   for (const auto& [name, bytes] : old)
@@ -940,13 +1067,23 @@ TEST_F(Faults, KilledOverwriteIsSettledByTheNextRun) {
   EXPECT_NE(r.err.find("are put back"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(d / ".fretbem-replaced"));
   expect_same_rows(ref, d);
-  // Killed after the new run's first checkpoint: the new run is the one kept.
-  ASSERT_EQ(
-      run("run " + kScenario + kLight + " --stop-after 3 --overwrite --out " + d.string(), dir_)
-          .code,
-      0);
-  fs::create_directory(d / ".fretbem-replaced");
-  std::ofstream(d / ".fretbem-replaced" / "timeseries.csv") << "an older run's\n";
+  // Killed after the new run's checkpoint (the state a stop leaves too): both are kept. A run
+  // without --overwrite is refused; one with it discards the unfinished run and, failing,
+  // puts back the finished results.
+  const auto finished = run_files(d);
+  const std::string replacing = "run " + kScenario + kLight + " --overwrite --out " + d.string();
+  ASSERT_EQ(run(replacing + " --stop-after 3", dir_).code, 0);
+  r = run("run " + kScenario + kLight + " --out " + d.string(), dir_);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_TRUE(run_files(d / ".fretbem-replaced") == finished);
+  EXPECT_EQ(rows_of(d / "timeseries.csv").size(), 4u);  // header + steps 0 to 2
+  r = run(replacing + " --set load.normal_force=2000", dir_);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_TRUE(run_files(d) == finished);
+  EXPECT_FALSE(fs::exists(d / ".fretbem-replaced"));
+  // Resumed after such a kill: the new run finishes and the results it replaced are removed.
+  ASSERT_EQ(run(replacing + " --stop-after 3", dir_).code, 0);
+  ASSERT_TRUE(fs::exists(d / ".fretbem-replaced"));
   ASSERT_EQ(run("run --resume " + d.string() + " --quiet", dir_).code, 0);
   EXPECT_FALSE(fs::exists(d / ".fretbem-replaced"));
   expect_same_rows(ref, d);

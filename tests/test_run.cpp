@@ -56,8 +56,7 @@ TEST(RunLayer, StoppedAndResumedRunWritesTheUninterruptedRows) {
 }
 
 // A path of step 0 alone (normal loading only) is finished by its first step: the observers
-// are told once, and a --overwrite run drops the results it replaced (its checkpoint is
-// written after step 0).
+// are told once, and a --overwrite run drops the results it replaced (it has finished).
 TEST(RunLayer, NormalOnlyRunFinishesOnceAndReplacesTheOldResults) {
   const fs::path dir = fresh_dir("normal");
   ASSERT_EQ(run_scenario(mindlin(dir, {"load.path=none"}), {.quiet = true}), 0);

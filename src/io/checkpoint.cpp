@@ -24,7 +24,6 @@
 #include "fretbem/core/rank_zero.hpp"
 #include "fretbem/core/text_file.hpp"
 #include "fretbem/history/slab_state.hpp"
-#include "fretbem/io/replaced_results.hpp"
 #include "fretbem/io/result_metadata.hpp"
 
 namespace fretbem {
@@ -498,7 +497,6 @@ void write_checkpoint(const fs::path& dir, const Model& model, const StepperPart
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(std::string(e.what()) + " (the previous checkpoint, if any, is kept)");
   }
-  drop_replaced_results(dir);  // the run now resumes from its own checkpoint
 }
 
 }  // namespace
@@ -552,12 +550,9 @@ void Checkpointer::on_step(const StepRecord& rec, const InterfaceState&, const M
   // would checkpoint every step (10 002 checkpoints, 4.4x the run time):
   // at most one turning-point checkpoint per second.
   const bool turning = rec.turning && since >= 1.0;
-  // A run replacing another's results keeps those until it has a checkpoint
-  // (replaced_results.hpp), so it writes one after step 0.
   // The clock and the folder are rank 0's: every rank of a distributed grid takes its answer.
-  const bool save = decided_on_rank_zero(model.half_space->communicator(), [&] {
-    return due || turning || last || (rec.step == 0 && replacing_results(dir_));
-  });
+  const bool save = decided_on_rank_zero(model.half_space->communicator(),
+                                         [&] { return due || turning || last; });
   if (!save) return;
   save_checkpoint(dir_, model, stepper_);
   last_ = now;

@@ -13,6 +13,7 @@
 #include "fretbem/io/replaced_results.hpp"
 #include "fretbem/io/result_recovery.hpp"
 #include "fretbem/io/resume_check.hpp"
+#include "fretbem/run/replacement_end.hpp"
 #include "fretbem/run/stepped_run.hpp"
 #include "fretbem/run/wear_run.hpp"
 
@@ -20,14 +21,22 @@ namespace fretbem {
 
 namespace {
 
+RunEnd wear_end(const WearReport& rep) {
+  return {.code = rep.exit_code, .finished = !rep.stopped};
+}
+
+RunEnd steps_end(int code, const Stepper& stepper) {
+  return {.code = code, .finished = stepper.next_step() >= stepper.steps()};
+}
+
 void warn_if_any(const std::string& warning) {
   if (!warning.empty()) std::fprintf(stderr, "fretbem: %s\n", warning.c_str());
 }
 
 // A wear run's checkpoint: its rows, fields and snapshots are checked and result.h5 rebuilt
 // to them (by rank 0 of a distributed grid), then the wear integration continues.
-int resume_wear(Model& model, const Checkpoint& cp, const std::filesystem::path& dir,
-                const RunOptions& options) {
+RunEnd resume_wear(Model& model, const Checkpoint& cp, const std::filesystem::path& dir,
+                   const RunOptions& options) {
   if (!cp.wear) throw InputError((dir / "checkpoint.h5").string() + ": not a wear run's");
   on_rank_zero(model.half_space->communicator(), [&] {
     check_finished_rows(dir / "timeseries.csv", std::size_t(cp.wear->counters.rows));
@@ -38,14 +47,14 @@ int resume_wear(Model& model, const Checkpoint& cp, const std::filesystem::path&
          .field_steps = std::int64_t(cp.wear->counters.rows),  // fields are of rows
          .snapshots = cp.wear->snapshots}));
   });
-  return run_wear(model, options.quiet, &cp, options.stop_after).exit_code;
+  return wear_end(run_wear(model, options.quiet, &cp, options.stop_after));
 }
 
 // A stepped run's checkpoint: result.h5 is never written in place (a kill may have torn it,
 // result_recovery.hpp); the stepper continues from the restored state and predictor.
 // On a distributed grid each rank takes its slab of the whole grid's checkpoint.
-int resume_steps(Model& model, const Checkpoint& cp, const std::filesystem::path& dir,
-                 const RunOptions& options) {
+RunEnd resume_steps(Model& model, const Checkpoint& cp, const std::filesystem::path& dir,
+                    const RunOptions& options) {
   if (cp.wear)
     throw InputError((dir / "checkpoint.h5").string() + ": a wear run's, but no wear.law");
   const auto done = std::int64_t(cp.memory.next_step);
@@ -65,7 +74,7 @@ int resume_steps(Model& model, const Checkpoint& cp, const std::filesystem::path
   stepper.restore(slab_of(hs, cp.state), slab_of(hs, cp.memory),
                   CyclePredictor::unflatten(predictor, std::size_t(cells),
                                             model.tangential_operator->components()));
-  return run_steps(model, stepper, long(cp.memory.next_step), options);
+  return steps_end(run_steps(model, stepper, long(cp.memory.next_step), options), stepper);
 }
 
 }  // namespace
@@ -82,22 +91,15 @@ int run_scenario(const Scenario& scenario, const RunOptions& options, const Comm
     prepare_output_dir(dir, options.overwrite);
   });
   model->run_id = new_run_id();
-  try {
-    if (model->wear) return run_wear(*model, options.quiet, nullptr, options.stop_after).exit_code;
+  return settle_replacement_at_end(dir, comm, [&] {
+    if (model->wear) return wear_end(run_wear(*model, options.quiet, nullptr, options.stop_after));
     Stepper stepper(*model);
-    return run_steps(*model, stepper, -1, options);
-  } catch (...) {
-    // Failed before its first checkpoint: the results it was to replace are put back. Its
-    // error is the one line to print; a folder that cannot be settled now is at the next run.
-    try {
-      if (comm.rank() == 0) (void)settle_replaced_results(dir);
-    } catch (const std::exception&) {
-    }
-    throw;
-  }
+    return steps_end(run_steps(*model, stepper, -1, options), stepper);
+  });
 }
 
 // Every rank reads the checkpoint (after rank 0 has settled the folder) and takes its slab.
+// A resume that fails, refused checkpoint included, puts back the results its run replaces.
 int resume_run(const std::filesystem::path& dir, const RunOptions& options,
                const Communicator& comm) {
   std::optional<OutputLock> lock;
@@ -109,14 +111,16 @@ int resume_run(const std::filesystem::path& dir, const RunOptions& options,
     warn_if_any(settle_replaced_results(dir));
     check_output_files(dir);
   });
-  const Checkpoint cp = load_checkpoint(dir);
-  Scenario sc = parse_scenario(cp.scenario_text, (dir / "checkpoint.h5").string(), ".", {});
-  set_output_dir(sc, dir);
-  auto model = build_model(sc, comm);
-  validate_checkpoint(cp, *model, dir / "checkpoint.h5");
-  model->run_id = cp.run_id;
-  return model->wear ? resume_wear(*model, cp, dir, options)
-                     : resume_steps(*model, cp, dir, options);
+  return settle_replacement_at_end(dir, comm, [&] {
+    const Checkpoint cp = load_checkpoint(dir);
+    Scenario sc = parse_scenario(cp.scenario_text, (dir / "checkpoint.h5").string(), ".", {});
+    set_output_dir(sc, dir);
+    auto model = build_model(sc, comm);
+    validate_checkpoint(cp, *model, dir / "checkpoint.h5");
+    model->run_id = cp.run_id;
+    return model->wear ? resume_wear(*model, cp, dir, options)
+                       : resume_steps(*model, cp, dir, options);
+  });
 }
 
 }  // namespace fretbem

@@ -68,15 +68,18 @@ class Pool {
                    "killed?)");
     const bool resume = !opt_.restart && member_resumable(members_, k);
     if (!resume) {
-      fs::remove_all(dir);  // stale outputs of an earlier attempt
+      if (!opt_.restart) fs::remove_all(dir);  // stale outputs of an earlier attempt
       fs::create_directories(dir);
     }
     MemberStatus running;
     running.error = kMemberRunning, running.sets = members_.sets(k);
     write_member_status(dir, running);
-    const auto cmd = resume ? std::vector<std::string>{opt_.binary.string(), "run", "--resume",
-                                                       dir.string(), "--quiet"}
-                            : member_run_command(members_, k, opt_.binary);
+    auto cmd = resume ? std::vector<std::string>{opt_.binary.string(), "run", "--resume",
+                                                 dir.string(), "--quiet"}
+                      : member_run_command(members_, k, opt_.binary);
+    // A member run afresh keeps the results it replaces until it finishes, and puts them back
+    // when it fails (io/replaced_results.hpp), as `run --overwrite` does.
+    if (opt_.restart) cmd.push_back("--overwrite");
     const auto handle = launcher_->start(cmd, dir / "log.txt");
     if (!handle) return finish(k, 127, 0, "could not start " + opt_.binary.string());
     running_[*handle] = {k, std::chrono::steady_clock::now(), std::move(lock)};

@@ -53,8 +53,7 @@ Checkpoint load_checkpoint(const std::filesystem::path& dir);
 void reseal_checkpoint(const std::filesystem::path& file);
 
 /// Observer that checkpoints every `every` steps (0: every 10 s of run time), at turning
-/// points (at most one per second of run time), after the last step, and after step 0 of a
-/// run that replaces another's results (replaced_results.hpp).
+/// points (at most one per second of run time) and after the last step.
 class Checkpointer final : public Observer {
  public:
   Checkpointer(std::filesystem::path dir, const Stepper& stepper, int every);

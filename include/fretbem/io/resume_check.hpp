@@ -22,7 +22,7 @@ bool check_output_dir(const std::filesystem::path& dir, bool overwrite);
 
 /// Before a fresh run into `dir`: refuses when `dir` holds another run's results
 /// (timeseries.csv, cycles.csv, result.h5 or checkpoint.h5) unless `overwrite`; with it,
-/// sets them aside until the new run has its first checkpoint (replaced_results.hpp).
+/// sets them aside until the new run has finished (replaced_results.hpp).
 void prepare_output_dir(const std::filesystem::path& dir, bool overwrite);
 
 /// Before a resume reads anything: refuses any run file of `dir` (run_files.hpp) that exists
