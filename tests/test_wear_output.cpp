@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <string>
@@ -291,6 +292,26 @@ TEST(WearResume, ErkStopAndResumeWithinTolerance) {
   fs::remove_all(part);
 }
 
+namespace {
+
+// Runs `ini` stopped after each of `stops` steps (--stop-after) into a fresh folder
+// `name`+stop, resumes it to the end and hands the folder to `check`.
+void for_each_resumed_stop(const fs::path& ini, const std::string& name,
+                           std::initializer_list<int> stops,
+                           const std::function<void(const fs::path&, int)>& check) {
+  for (int stop : stops) {
+    const fs::path part = fresh_dir(name + std::to_string(stop));
+    ASSERT_EQ(sh("run " + ini.string() + " --quiet --out " + part.string() + " --stop-after " +
+                 std::to_string(stop)),
+              0);
+    ASSERT_EQ(sh("run --quiet --resume " + part.string()), 0);
+    check(part, stop);
+    fs::remove_all(part);
+  }
+}
+
+}  // namespace
+
 // A stop right after an explicit step whose last stage ran on the new state: that state's
 // accepted row is already in cycles.csv when the checkpoint is written, and the resumed run's
 // first evaluation there is a repeat (accepted = 0), as in the uninterrupted run. A flat in
@@ -311,19 +332,14 @@ TEST(WearResume, ErkResumeKeepsTheAcceptedFlagsOfAStateThatHasItsRow) {
          "[load]\npath = table\ntable = "
       << table.string()
       << "\n[wear]\nlaw = energy\nintegrator = arkode\ncycles = 40\ncoefficient = 2.1e-9\n";
-  const std::string run = "run " + ini.string() + " --quiet --out ";
   const fs::path full = fresh_dir("flag_full");
-  ASSERT_EQ(sh(run + full.string()), 0);
+  ASSERT_EQ(sh("run " + ini.string() + " --quiet --out " + full.string()), 0);
   const Csv a = read_csv(full / "cycles.csv");
-  for (const char* stop : {"1", "2", "5", "6"}) {
-    const fs::path part = fresh_dir(std::string("flag_part") + stop);
-    ASSERT_EQ(sh(run + part.string() + " --stop-after " + stop), 0);
-    ASSERT_EQ(sh("run --quiet --resume " + part.string()), 0);
+  for_each_resumed_stop(ini, "flag_part", {1, 2, 5, 6}, [&](const fs::path& part, int stop) {
     const Csv b = read_csv(part / "cycles.csv");
     EXPECT_EQ(a.column("accepted"), b.column("accepted")) << "stopped after " << stop;
     EXPECT_EQ(a.column("N"), b.column("N")) << "stopped after " << stop;
-    fs::remove_all(part);
-  }
+  });
   fs::remove_all(full);
   fs::remove(ini);
   fs::remove(table);
@@ -344,26 +360,21 @@ TEST(WearResume, ErkResumeKeepsTheAbsoluteToleranceOfTheFirstRun) {
                         "[load]\npath = sine\nnormal_force = 2.352\namplitude = 0.9\n"
                         "steps_per_cycle = 12\n[wear]\nlaw = archard\nintegrator = erk\n"
                         "cycles = 200\ncoefficient = 5e-10\nrtol = 1e-3\n";
-  const std::string run = "run " + ini.string() + " --quiet --out ";
   const fs::path full = fresh_dir("atol_full");
-  ASSERT_EQ(sh(run + full.string()), 0);
+  ASSERT_EQ(sh("run " + ini.string() + " --quiet --out " + full.string()), 0);
   const Csv a = read_csv(full / "cycles.csv");
   const auto N = a.column("N"), accepted = a.column("accepted");
   bool retried = false;  // a trial rejected, the step retried shorter from the same state
   for (std::size_t k = 1; k < N.size(); ++k) retried |= accepted[k - 1] == 0.0 && N[k] < N[k - 1];
   ASSERT_TRUE(retried);
   const auto Wf = h5_field(full / "result.h5", "/wear/final_worn_depth");
-  for (const char* stop : {"1", "2"}) {
-    const fs::path part = fresh_dir(std::string("atol_part") + stop);
-    ASSERT_EQ(sh(run + part.string() + " --stop-after " + stop), 0);
-    ASSERT_EQ(sh("run --quiet --resume " + part.string()), 0);
+  for_each_resumed_stop(ini, "atol_part", {1, 2}, [&](const fs::path& part, int stop) {
     const Csv b = read_csv(part / "cycles.csv");
     EXPECT_EQ(a.header, b.header);
     EXPECT_EQ(a.rows, b.rows) << "stopped after " << stop;
     EXPECT_EQ(Wf, h5_field(part / "result.h5", "/wear/final_worn_depth"))
         << "stopped after " << stop;
-    fs::remove_all(part);
-  }
+  });
   fs::remove_all(full);
   fs::remove(ini);
 }
