@@ -324,7 +324,7 @@ TEST(WearIntegrators, NewtonSolvesStopAtArkodesLinearTolerance) {
 
 // TR-BDF2's implicit stages start Newton from the step's start (the trivial predictor), the
 // state the explicit first stage has just evaluated: the wear map is a function of the worn
-// depth alone, so that iterate is answered from the evaluation before it (MapMemo), never
+// depth alone, so that iterate is answered from the evaluation before it (wear_rhs), never
 // simulated twice in a row. Without it every Newton iteration and every step's first stage
 // would be a simulated cycle: evaluations >= steps + Newton iterations.
 TEST(WearIntegrators, RepeatedIterateIsNotSimulatedAgain) {

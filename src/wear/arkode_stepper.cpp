@@ -104,7 +104,7 @@ void create_implicit(ArkodeStepper& it, N_Vector y, SUNContext ctx, OdeData& d, 
     // The stage derivative from the converged Newton iterate instead of one more simulated
     // cycle at it (770 -> 516 simulated cycles to 1e6 at n = 64, docs/wear.md), and the
     // trivial predictor: each implicit stage's first iterate is the step's start, whose wear
-    // map the explicit first stage has just evaluated (MapMemo answers it without a cycle).
+    // map the explicit first stage has just evaluated (wear_rhs answers it without a cycle).
     // rough_fretting_wear.ini at wear.rtol = 1e-2, against the predictor of maximum order:
     // n = 128 to N = 1e5 50 evaluations and 3817 convolutions against 115 and 6635; n = 256
     // to N = 1e4 34 and 3080 against 69 and 4492 (docs/wear.md, "Cost").

@@ -52,7 +52,7 @@ double implicit_floor(double N, double per_evaluation) {
 // (Q = 0.9 cost 3-4x Q = 0.3; n = 128 about twice n = 32). A sphere's A_stick/A =
 // (1 - q)^(2/3), so the last factor is (1 - q)^-0.75; it is held at q = 0.95 (gross slip has
 // no stick zone). The scale: Newton's first iterate of a stage is the step's start, answered
-// without a cycle (MapMemo), and the nine runs of docs/reliability.md ("Implicit (dirk) wear
+// without a cycle (wear_rhs), and the nine runs of docs/reliability.md ("Implicit (dirk) wear
 // range") simulate 0.32-1.25 of the model at the scale 0.2 the 33 runs gave; 0.125 puts their
 // geometric centre at 1, and the range kImplicitRange (0.51-2.0 of them) holds all nine.
 double implicit_middle(double N, double per_evaluation, double a_over_h, double stick_share) {

@@ -144,7 +144,6 @@ OdeRun::OdeRun(Model& model, WearCycles& cyc, Observer& log, WearIntegrator kind
   if (implicit_) {
     d_.pre = std::make_unique<WearPreconditioner>(*model_.half_space,
                                                   model_.path.steps.front().normal.force_control);
-    d_.memo = std::make_unique<MapMemo>();
   }
   it_.implicit = implicit_;
   create(it_, y_, sun_.ctx, d_, std::min(cap_, N_end_));

@@ -19,9 +19,25 @@ SunContext::~SunContext() {
   SUNContext_Free(&ctx);
 }
 
-// dW/dN = w(z0 - W): one steady cycle on the current surface per evaluation, or the rate an
-// earlier evaluation found on the same worn depth (implicit mode, MapMemo). Exceptions cannot
-// cross the C library: kept and rethrown after ARKODE returns.
+namespace {
+
+// Whether `base` is the worn depth W on every rank: a slab that differs on one rank is a
+// different state.
+bool same_worn_depth(const Field& base, const Field& W, const Communicator& comm) {
+  const bool same =
+      base.size() > 0 && base.rows() == W.rows() && base.cols() == W.cols() && (base == W).all();
+  return !comm.any(!same);
+}
+
+}  // namespace
+
+// dW/dN = w(z0 - W): one steady cycle on the current surface per evaluation. The map is
+// autonomous (a function of W alone; N only labels the row), and TR-BDF2 with the trivial
+// Newton predictor starts an implicit stage from the step's start y_n bit for bit, which the
+// step's first stage (or the stage before, converged at its first iterate) has just evaluated:
+// in implicit mode that repeat is answered with the rate of the Newton matrix's base
+// evaluation, the latest one, without a cycle. Exceptions cannot cross the C library: kept and
+// rethrown after ARKODE returns.
 int wear_rhs(realtype N, N_Vector y, N_Vector ydot, void* user) {
   auto& d = *static_cast<OdeData*>(user);
   try {
@@ -29,14 +45,14 @@ int wear_rhs(realtype N, N_Vector y, N_Vector ydot, void* user) {
     // zero (material added), which would raise a node above the unworn surface.
     const Field W = slab(d, y).max(0.0);
     const Communicator& comm = d.model.half_space->communicator();
-    if (const Field* rate = d.memo && !d.probing ? d.memo->find(W, comm) : nullptr) {
-      slab(d, ydot) = *rate;
+    if (d.pre && !d.probing && same_worn_depth(d.base_worn, W, comm)) {
+      slab(d, ydot) = d.base_rate;
       return 0;
     }
     WearCycle c = d.cyc.steady(N, W);
     slab(d, ydot) = c.rate;
-    if (d.memo && !d.probing) d.memo->keep(W, c.rate);
     if (d.pre && !d.probing) {
+      d.base_worn = W;
       d.base_pressure = d.cyc.pressure();
       d.base_rate = c.rate;
       ++d.base_generation;

@@ -13,7 +13,6 @@
 
 #include "fretbem/wear/integrator.hpp"
 #include "fretbem/wear/preconditioner.hpp"
-#include "map_memo.hpp"
 
 namespace fretbem::wear_detail {
 
@@ -36,13 +35,12 @@ struct OdeData {
   double step_max_slip = 0.0;  // largest slip per cycle seen in the current integrator step
   std::exception_ptr error;
   // Implicit mode: the last evaluation at an iterate (not a Jacobian probe) linearises the
-  // Newton matrix (WearPreconditioner).
+  // Newton matrix (WearPreconditioner), and a repeated iterate on its worn depth base_worn is
+  // answered with its rate (same_worn_depth).
   std::unique_ptr<WearPreconditioner> pre;
   bool probing = false;
-  Field base_pressure, base_rate;
+  Field base_worn, base_pressure, base_rate;
   long base_generation = 0, linearised_generation = -1;
-  // Implicit mode: the latest evaluation, which a repeated iterate is answered from.
-  std::unique_ptr<MapMemo> memo;
 };
 
 /// This rank's slab of a grid vector (nx, local rows), in place.

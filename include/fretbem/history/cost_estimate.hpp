@@ -61,8 +61,8 @@ struct MemoryCosts {
   /// evaluations' path the normal solves start from (WearWarmStart::kBytesPerCell, 64 bytes) is
   /// held some four times more while a checkpoint is written (the checkpoint's copies and the
   /// HDF5 image's): with it the same run at n = 256 to N = 1e4 peaked at 107.6 MiB against
-  /// 87.3 MiB without, 459 bytes per cell; the implicit integrator's latest evaluation kept for
-  /// its repeated Newton iterate (src/wear/map_memo.hpp, 16 bytes per cell) adds to it: that,
+  /// 87.3 MiB without, 459 bytes per cell; the worn depth of the implicit integrator's latest
+  /// evaluation, kept to answer its repeated Newton iterate (8 bytes per cell), adds to it: that,
   /// rounded up with the margin the other shares keep.
   static constexpr double kWear = 600.0;
 };
