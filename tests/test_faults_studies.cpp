@@ -159,9 +159,9 @@ TEST(StudyFaults, TwoSweepsIntoOneFolderShareTheMembers) {
 }
 
 // A member another process holds is left to it: the study's member lock (another study), or the
-// member's own run lock (a `fretbem run` orphaned by a study killed with SIGKILL, which a rerun
-// used to delete under it); the study then has no result for them and exits 4. The rerun after
-// the locks are gone runs just those members.
+// member's own run lock (a `fretbem run` orphaned by a study killed with SIGKILL: emptying its
+// folder would delete its outputs under it); the study then has no result for them and exits 4.
+// The rerun after the locks are gone runs just those members.
 TEST(StudyFaults, SweepLeavesMembersOthersRun) {
   const fs::path d = scratch("held_members");
   const fs::path study = small_study(d), out = d / "out";
