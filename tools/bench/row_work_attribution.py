@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Where a table's one-step-per-row dissipation departs from its sub-stepped limit, by node.
 
-Usage: row_work_attribution.py FRETBEM CASE [--rows N] [--split S]
+Usage: row_work_attribution.py FRETBEM CASE [--rows N] [--split S] [--base-split B]
 
 CASE as in step_control_cost.py (sphere, displacement, rough): the table sampled at N rows a
 period is run as it is (one step a row, load.substeps = 1) and with every row split in S equal
@@ -10,7 +10,9 @@ step. Over the third period, each row's nodal work of the one-step run minus the
 over the same row ends is summed by the node's class in the one-step run: slipping at both
 row ends (the trapezoid of the bound), starting to slip in the row (its end bound), losing
 contact in it, and the rest (stuck or open at the row's end). Prints CSV per row and the sums
-(J); the third period's error against the reference is their total.
+(J); the third period's error against the reference is their total. With --base-split B the
+run scored is the path split in B rows a row (one step each) instead of the N rows, and S a
+multiple of B.
 """
 import argparse
 import importlib.util
@@ -19,7 +21,6 @@ import subprocess
 import tempfile
 
 import h5py
-import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 spec = importlib.util.spec_from_file_location("cost", os.path.join(HERE, "step_control_cost.py"))
@@ -28,22 +29,34 @@ spec.loader.exec_module(cost)
 SLIP = 2
 
 
-def run_with_fields(binary, work, case, rows, split):
+def run_fields(binary, work, case, rows, split, names, tolerance=0.0):
+    """Runs the N-row path of CASE split in `split` rows a row, saving the fields `names` at
+    every step; returns its output directory."""
     tag = "%s_%d_%d" % (case, rows, split)
     table, ini, out = (os.path.join(work, tag + e) for e in (".csv", ".ini", "_out"))
     cost.write_table(table, case, rows, split)
-    cost.write_scenario(ini, case, table, 0.0)
+    cost.write_scenario(ini, case, table, tolerance)
     subprocess.run([binary, "run", ini, "--out", out, "--quiet",
-                    "--set", "output.fields=dissipation,state,pressure",
+                    "--set", "output.fields=" + ",".join(names),
                     "--set", "output.fields_every=1"],
                    check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return out
+
+
+def fields_by_time(out, names):
+    """{time: {name: field}} of a run's saved fields, the last step saved at each time."""
     fields = {}
     with h5py.File(os.path.join(out, "result.h5"), "r") as f:
-        for name, g in f["fields"].items():  # the last step saved at each time
+        for g in f["fields"].values():
             t, step = round(float(g.attrs["time"]), 10), int(g.attrs["step"])
             if t not in fields or fields[t][0] < step:
-                fields[t] = (step, {k: g[k][()] for k in ("dissipation", "state", "pressure")})
+                fields[t] = (step, {k: g[k][()] for k in names})
     return {t: v[1] for t, v in fields.items()}
+
+
+def run_with_fields(binary, work, case, rows, split):
+    names = ("dissipation", "state", "pressure")
+    return fields_by_time(run_fields(binary, work, case, rows, split, names), names)
 
 
 def main():
@@ -52,11 +65,12 @@ def main():
     ap.add_argument("case", choices=sorted(cost.CASES))
     ap.add_argument("--rows", type=int, default=32)
     ap.add_argument("--split", type=int, default=8)
+    ap.add_argument("--base-split", type=int, default=1)
     a = ap.parse_args()
     c = cost.CASES[a.case]
     h2 = (c["length"] / c["n"]) ** 2
     with tempfile.TemporaryDirectory() as work:
-        one = run_with_fields(a.fretbem, work, a.case, a.rows, 1)
+        one = run_with_fields(a.fretbem, work, a.case, a.rows, a.base_split)
         ref = run_with_fields(a.fretbem, work, a.case, a.rows, a.split)
     ends = sorted(t for t in one if 2.0 <= t <= 3.0)
     classes = ("slip_both", "start_slip", "lose_contact", "rest")
@@ -73,8 +87,8 @@ def main():
             total[k] += v
         print("%.6f," % t1 + ",".join("%.3e" % v for v in row))
     print("sum," + ",".join("%.3e" % total[k] for k in classes))
-    print("# third period: one step a row minus %d sub-rows a row: %.4e J" % (a.split,
-                                                                            sum(total.values())))
+    print("# third period: %d rows a row minus %d rows a row: %.4e J"
+          % (a.base_split, a.split, sum(total.values())))
 
 
 if __name__ == "__main__":

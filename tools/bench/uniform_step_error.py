@@ -17,13 +17,18 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import step_control_cost as bench  # noqa: E402
 
 
-def main():
+def arguments():
+    """FRETBEM CASE LIMIT [--splits 1,2,4], as the usage above (estimate_fidelity.py's too)."""
     ap = argparse.ArgumentParser()
     ap.add_argument("fretbem")
     ap.add_argument("case", choices=sorted(bench.CASES))
     ap.add_argument("limit", type=float)
     ap.add_argument("--splits", default="1,2,4")
-    a = ap.parse_args()
+    return ap.parse_args()
+
+
+def main():
+    a = arguments()
     print("rows_per_period,error,step_error,ratio")
     with tempfile.TemporaryDirectory() as work:
         for split in (int(s) for s in a.splits.split(",")):
