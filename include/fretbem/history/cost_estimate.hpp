@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "fretbem/history/cycle_predictor.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/scenario/scenario.hpp"
 
@@ -68,8 +69,11 @@ struct MemoryCosts {
 };
 
 /// The memory a run of `sc` needs at its peak; `cycle_predictor` as use_cycle_predictor
-/// resolves solver.predictor for its path.
-MemoryEstimate estimate_memory(const Scenario& sc, bool cycle_predictor);
+/// resolves solver.predictor for its path, `predictor_bytes` the predictor's memory bound
+/// (bytes per cell, predictor_bytes_per_cell of the path): what it holds above
+/// CyclePredictor::kBytesPerCell (remembered sub-steps) adds to MemoryCosts::kPredictor.
+MemoryEstimate estimate_memory(const Scenario& sc, bool cycle_predictor,
+                               double predictor_bytes = CyclePredictor::kBytesPerCell);
 
 /// CPU seconds and FFT convolutions of a half-space since construction: the one measurement the
 /// calibrations (a stepped run's here, a wear run's in wear/cost_estimate.hpp) extrapolate.
@@ -114,9 +118,9 @@ inline constexpr double kPredictedStepShare = 0.04;
 /// path's second turning point, kSettledStepShare after it, kPredictedStepShare where the
 /// cycle predictor starts the step; a step the Masing image starts counts kSettledStepShare
 /// before the second turning point and kPredictedStepShare after it; a row solved in m
-/// sub-steps (row_substeps, history/step_control.hpp) counts m x (1 or kSettledStepShare), no
-/// predictor starting them. What the estimate extrapolates with and what a run's progress ETA
-/// counts on.
+/// sub-steps (row_substeps, history/step_control.hpp) counts m x (1 or kSettledStepShare),
+/// whether the cycle predictor starts them or not (it saves a fifth of them, not the predicted
+/// rows' 0.96). What the estimate extrapolates with and what a run's progress ETA counts on.
 std::vector<double> step_cost_shares(const Model& model);
 
 /// Builds the model (operators included), solves the first steps and extrapolates: the
