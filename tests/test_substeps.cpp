@@ -214,7 +214,7 @@ TEST(Substeps, RepeatedRowsStartFromThePredictorAndCostLess) {
 // estimate counts it: at 32 rows a period the run holds more than the rows' bound of
 // kBytesPerCell (128 sub-steps a period on ~200 contact nodes of 1024 cells), never more than
 // its own bound after a row, and the estimate's predictor share is above the rows' by the
-// difference.
+// difference as the process holds it (MemoryCosts::kSubstepPredictorPerByte times it).
 TEST(Substeps, PredictorBoundCountsTheRememberedSubsteps) {
   const fs::path table = temp_path("bound") += ".csv";
   fretbem_test::write_sine_normal_table(table, 32, fretbem_test::unit_hertz_force(), kMu, 2);
@@ -246,7 +246,8 @@ TEST(Substeps, PredictorBoundCountsTheRememberedSubsteps) {
   EXPECT_LE(held, bound * cells);
   const MemoryEstimate rows = estimate_memory(model->scenario, true),
                        substeps = estimate_memory(model->scenario, true, bound);
-  EXPECT_DOUBLE_EQ(substeps.predictor - rows.predictor, (bound - rows_bound) * cells);
+  EXPECT_DOUBLE_EQ(substeps.predictor - rows.predictor,
+                   MemoryCosts::kSubstepPredictorPerByte * (bound - rows_bound) * cells);
   fs::remove(table);
 }
 

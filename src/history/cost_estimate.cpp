@@ -51,9 +51,10 @@ MemoryEstimate estimate_memory(const Scenario& sc, bool cycle_predictor, double 
   if (sc.solver.monotone == MonotoneMethod::shortcut) m.solver += cells * MemoryCosts::kShortcut;
   // Two traction components double what the predictor remembers and starts from.
   if (cycle_predictor) m.predictor = cells * MemoryCosts::kPredictor * (two ? 2.0 : 1.0);
-  // The entries of remembered sub-steps, to their bound (doubles and node indices).
+  // The entries of remembered sub-steps, to their bound, as the process holds them.
   if (cycle_predictor)
-    m.predictor += cells * std::max(0.0, predictor_bytes - CyclePredictor::kBytesPerCell);
+    m.predictor += cells * MemoryCosts::kSubstepPredictorPerByte *
+                   std::max(0.0, predictor_bytes - CyclePredictor::kBytesPerCell);
   if (masing_possible(sc, two)) m.masing = cells * MemoryCosts::kMasing;
   if (sc.wear.law != WearLaw::none) m.wear = cells * MemoryCosts::kWear;
   return m;
