@@ -379,6 +379,20 @@ TEST(RunMpi, CubicTableOnTwoRanksEqualsSerialAndResumes) {
     expect_first_peak(d / "serial", d / out);
 }
 
+// The same table, linear, in the default sub-steps: the second period's sub-steps start from the
+// first period's (the cycle predictor remembers every sub-step of a row the path repeats), whose
+// entries hold every rank's nodes and are gathered into the checkpoint and sliced from it. Two
+// ranks equal the serial run; stopped on two ranks in the second period (after 22 rows: its
+// first rows started from the predictor) and resumed on two ranks and serially, too.
+TEST(RunMpi, PredictedSubstepsOnTwoRanksEqualSerialAndResume) {
+  const fs::path d = scratch("run_mpi_predicted_substeps");
+  const std::string args = sine_table_scenario(d, 16, "linear");
+  expect_sub_stepped_two_ranks(d, args);
+  for (const int ranks : {2, 0})
+    stop_and_resume(d, args + " --stop-after 22", 2, ranks,
+                    "stopped2_resumed" + std::to_string(ranks), kLayoutKx, kSubstepFields);
+}
+
 // load.tolerance on the same table (16 rows a period, linear), where every row's normal load
 // varies: the sub-steps of each row come from the estimate summed over every rank's nodes and
 // from the period's rate (history/step_control.hpp), alike on every layout. Two ranks equal

@@ -144,13 +144,19 @@ void CyclePredictor::remember(const LoadStep& prev, const LoadStep& cur, const V
     for (const Eigen::Index k : *e.nodes) e.values[c].push_back(traction[c](k));
   }
   entries_.push_front(std::move(e));
+  ++remembered_;
   recount();
   // 8 bytes per stored double or index; the oldest entries go first.
-  const double limit = kBytesPerCell * comm_->sum(double(bound.size())) / 8.0;
+  const double limit = bytes_per_cell_ * comm_->sum(double(bound.size())) / 8.0;
   while (entries_.size() > 1 && comm_->sum(double(stored_)) > limit) {
     entries_.pop_back();
     recount();
   }
+}
+
+void CyclePredictor::forget_newest(std::size_t count) {
+  for (; count > 0 && !entries_.empty(); --count) entries_.pop_front();
+  recount();
 }
 
 // ---- checkpoint form ---------------------------------------------------------------------

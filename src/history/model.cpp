@@ -12,6 +12,7 @@
 #include "fretbem/history/cost_estimate.hpp"
 #include "fretbem/history/cycle_predictor.hpp"
 #include "fretbem/history/preflight.hpp"
+#include "fretbem/history/step_control.hpp"
 
 namespace fretbem {
 
@@ -122,13 +123,15 @@ bool use_cycle_predictor(const Scenario& sc, const LoadPath& path) {
   const std::vector<char> later = CyclePredictor::repeated_later(path.steps);
   if (std::find(later.begin(), later.end(), 1) == later.end()) return false;
   const double have = usable_memory_bytes();
-  return have <= 0 || estimate_memory(sc, true).total() <= have;
+  return have <= 0 || estimate_memory(sc, true, predictor_bytes_per_cell(sc, path)).total() <= have;
 }
 
 // Against what the process may use: inside a batch job (Slurm, containers) the cgroup limit is
 // smaller than the node's RAM, and exceeding it kills the job instead of failing cleanly.
-void check_memory(const Scenario& sc, bool cycle_predictor) {
-  const double have = usable_memory_bytes(), need = estimate_memory(sc, cycle_predictor).total();
+void check_memory(const Scenario& sc, const LoadPath& path, bool cycle_predictor) {
+  const double have = usable_memory_bytes();
+  const double need =
+      estimate_memory(sc, cycle_predictor, predictor_bytes_per_cell(sc, path)).total();
   if (have <= 0 || need <= have) return;  // unknown: let the allocator decide
   std::ostringstream msg;
   msg.precision(3);
@@ -159,7 +162,7 @@ std::unique_ptr<Model> prepare_model(const Scenario& sc) {
   m->scenario = sc;
   m->path = make_load_path(sc);
   m->cycle_predictor = use_cycle_predictor(sc, m->path);
-  check_memory(sc, m->cycle_predictor);  // before the surface, kernels and FFT buffers
+  check_memory(sc, m->path, m->cycle_predictor);  // before the surface, kernels and FFT buffers
   m->surface0 = make_surface(sc);
   m->surface = m->surface0;
   check_before_solve(sc, m->path, m->surface0);

@@ -47,6 +47,26 @@ int row_substeps(const Model& model, std::size_t k) {
   return k > 0 && bound_moves_within(steps.at(k - 1), steps.at(k)) ? fixed_substeps(model) : 1;
 }
 
+// Measured with tools/bench/step_control_cost.py (32 rows a period in 2 and 4 sub-steps): the
+// sub-steps that started from the predictor cost 0.75-0.83x those of the same rows from the
+// sub-step before on the four one-component cases (sphere, rough, displacement,
+// rough_displacement), and 1.12x (2 sub-steps) and 1.23x (4) under solver.coupling = cerruti
+// (two components), where the sub-steps keep starting from the one before.
+bool substeps_predicted(const Model& model) {
+  return model.cycle_predictor && model.tangential_operator &&
+         model.tangential_operator->components() == 1;
+}
+
+double predictor_bytes_per_cell(const Scenario& sc, const LoadPath& path) {
+  const LoadSpec& load = sc.load;
+  const int k = load.tolerance > 0.0 ? CyclePredictor::kSubstepsKept : load.substeps;
+  bool moves = false;
+  for (std::size_t i = 1; i < path.steps.size() && !moves; ++i)
+    moves = bound_moves_within(path.steps[i - 1], path.steps[i]);
+  const int factor = moves ? std::clamp(k, 1, CyclePredictor::kSubstepsKept) : 1;
+  return CyclePredictor::kBytesPerCell * factor;
+}
+
 bool bound_moves_within(const LoadStep& a, const LoadStep& b) {
   return a.normal.force_control == b.normal.force_control && a.normal.value != b.normal.value &&
          a.control == b.control && a.relative == b.relative;
@@ -152,6 +172,7 @@ StepRecord Stepper::advance_substepped(std::size_t k) {
   HalfSpace& hs = *model_.half_space;
   const auto conv0 = hs.convolutions();
   row_guess_ = guess_;
+  row_guess_predicted_ = guess_predicted_, row_guess_continues_ = guess_continues_;
   substep_normal_iterations_ = substep_tangential_iterations_ = substep_coupling_iterations_ = 0;
   StepRecord last;
   const double error = controlled ? solve_controlled(a, b, int(k), last)
@@ -178,10 +199,12 @@ double Stepper::solve_controlled(const LoadStep& a, const LoadStep& b, int k, St
   int m = substeps_for(span, period_rate_.for_row(cycle, a.time), tolerance);
   std::optional<std::pair<StepperMemory, InterfaceState>> before;
   if (had_step && !period_rate_.settled()) before.emplace(memory(), state_);
+  const std::size_t remembered0 = predictor_.remembered();
   double error = solve_substeps(a, b, m, k, last);
   if (before) {
     const int wanted = substeps_for(span, period_rate_.with_row(error, span, span / m), tolerance);
-    if (wanted > m) {
+    if (wanted > m) {  // the sub-steps solved are not the row's: not remembered either
+      predictor_.forget_newest(predictor_.remembered() - remembered0);
       restore(before->second, before->first, std::move(predictor_));
       m = wanted;
       error = solve_substeps(a, b, m, k, last);
@@ -194,24 +217,23 @@ double Stepper::solve_controlled(const LoadStep& a, const LoadStep& b, int k, St
 
 // Row a -> b in m equal sub-steps; leaves `last` the last sub-step's record and returns the
 // sum of their estimates (under load.tolerance; else 0) relative to the dissipation scale: the
-// mean dissipation per period so far, or the row's own per period when larger.
-// A row solved whole keeps the start the row would have without the key (the cycle
-// predictor's traction one cycle earlier); sub-steps all start from the sub-step before, 1/m
-// of the row away. The predictor's start is not converged where the normal load varies (its
-// Coulomb residual 3e-5 to 1e-2 of |C g| on the sphere of tools/bench/step_control_cost.py,
-// of the order of the plain start's), and the last sub-steps that took it cost 275-365
-// convolutions each there on average, against 57-67 for the other sub-steps of the same rows
-// (docs/algorithms.md, "Run time against error").
+// mean dissipation per period so far, or the row's own per period when larger. The sub-steps
+// of a row the path repeats are remembered by the cycle predictor, as rows are.
 double Stepper::solve_substeps(const LoadStep& a, const LoadStep& b, int m, int k,
                                StepRecord& last) {
   const double dissipation0 = dissipation_, span = (b.time - a.time) / m;
   const bool controlled = model_.scenario.load.tolerance > 0.0;
+  const bool remember = m > 1 && substep_predictor_ && repeated_later_.at(std::size_t(k));
+  row_whole_ = m == 1;
   double work_error = 0.0;
+  LoadStep from = a;
   for (int j = 1; j <= m; ++j) {
     const LoadStep ls = j == m ? b : interpolate_load(a, b, double(j) / m);
-    guess_ = m == 1 ? row_guess_ : nullptr;
+    start_substep(from, ls, m, k);
     substep_ = j < m;  // the row's last sub-step ends at its row: kx and the edge check there
     last = controlled ? estimated_substep(ls, k, span) : advance(ls, k);
+    if (remember) predictor_.remember(from, ls, state_.traction, bound_);
+    from = ls;
     work_error += last.step_error;
     substep_normal_iterations_ += last.normal_iterations;
     substep_tangential_iterations_ += last.tangential_iterations;
@@ -222,6 +244,28 @@ double Stepper::solve_substeps(const LoadStep& a, const LoadStep& b, int m, int 
   const double scale =
       std::max(dissipation_ / periods, (dissipation_ - dissipation0) / (b.time - a.time));
   return scale > 0.0 ? work_error / scale : 0.0;
+}
+
+// Where sub-step from -> to of row k (in m sub-steps) starts. A row solved whole keeps the
+// start the row would have without the key. A sub-step of a row whose transition came before
+// starts from the same sub-step's traction one period earlier where the predictor kept it (put
+// onto the moved bound, as for a split row), else from the sub-step before. The same sub-step
+// only: the row's end traction one period earlier is no converged start for the row's last
+// sub-step where the normal load varies (Coulomb residual 3e-5 to 1e-2 of |C g| on the sphere of
+// tools/bench/step_control_cost.py, of the order of the plain start's; such last sub-steps cost
+// 275-365 convolutions each there on average against 57-67 for the other sub-steps of the same
+// rows; docs/algorithms.md, "Run time against error").
+void Stepper::start_substep(const LoadStep& from, const LoadStep& to, int m, int k) {
+  if (m == 1) {
+    guess_ = row_guess_, guess_predicted_ = row_guess_predicted_;
+    guess_continues_ = row_guess_continues_;
+    return;
+  }
+  const HalfSpace& hs = *model_.half_space;
+  const bool seen = substep_predictor_ && repeated_earlier_.at(std::size_t(k));
+  guess_ = seen ? predictor_.find(from, to, hs.grid().nx, hs.local_rows()) : nullptr;
+  guess_predicted_ = guess_ != nullptr;
+  guess_continues_ = false;
 }
 
 // One step of `span` periods; its record's step_error is its estimated work error (J), and

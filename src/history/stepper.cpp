@@ -30,7 +30,12 @@ bool contact_never_changes(const Model& m) {
 
 Stepper::Stepper(Model& model)
     : model_(model), state_(InterfaceState::zeros(*model.tangential_operator)) {
-  if (model_.cycle_predictor) repeated_later_ = CyclePredictor::repeated_later(model_.path.steps);
+  if (model_.cycle_predictor) {
+    repeated_later_ = CyclePredictor::repeated_later(model_.path.steps);
+    repeated_earlier_ = CyclePredictor::repeated_earlier(model_.path.steps);
+  }
+  substep_predictor_ = substeps_predicted(model_);
+  set_predictor_bound();
   masing_plan_ = MasingImage::plan(model_);
   contact_fixed_ = contact_never_changes(model_);
   predictor_.set_communicator(model_.half_space->communicator());
@@ -75,6 +80,7 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m,
   const HalfSpace& hs = *model_.half_space;
   masing_ = MasingImage::unflatten(m.masing, hs.grid().nx, hs.local_rows());
   predictor_.set_communicator(hs.communicator());
+  set_predictor_bound();
   masing_.set_communicator(hs.communicator());
   const auto bound = m.fields.find("bound");
   if (bound != m.fields.end())
@@ -99,6 +105,13 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m,
   shortcut_psi_ = psi != m.fields.end() ? psi->second : Field();
 }
 
+// The predictor's memory bound: rows' sub-steps are remembered only where they take it.
+void Stepper::set_predictor_bound() {
+  predictor_.set_bytes_per_cell(substep_predictor_
+                                    ? predictor_bytes_per_cell(model_.scenario, model_.path)
+                                    : CyclePredictor::kBytesPerCell);
+}
+
 StepRecord Stepper::advance(std::size_t k) {
   const std::vector<LoadStep>& steps = model_.path.steps;
   const bool predict = model_.cycle_predictor && k > 0;
@@ -116,6 +129,7 @@ StepRecord Stepper::advance(std::size_t k) {
   if (start) guess_ = start;
   guess_predicted_ = guess_ && !start;
   const bool substepped = model_.scenario.load.tolerance > 0.0 || fixed_substeps(model_) > 1;
+  row_whole_ = true;
   const StepRecord rec = substepped && k > 0 ? advance_substepped(k) : advance(steps.at(k), int(k));
   keep_tangent(k, rec);
   guess_ = nullptr, guess_continues_ = false, guess_predicted_ = false;
@@ -126,8 +140,9 @@ StepRecord Stepper::advance(std::size_t k) {
     masing_.record_branch(mp.level[k], state_.traction[0], bound_);
   if (!mp.turning.empty() && mp.turning[k]) masing_.record_turning(mp.level[k], state_.traction[0]);
   // Only transitions the path repeats are remembered: nothing on a table that never repeats,
-  // nothing in the last cycle of a sine.
-  if (predict && repeated_later_.at(k))
+  // nothing in the last cycle of a sine. A row in sub-steps that take the predictor remembers
+  // those instead (solve_substeps).
+  if (predict && repeated_later_.at(k) && (row_whole_ || !substep_predictor_))
     predictor_.remember(steps[k - 1], steps[k], state_.traction, bound_);
   next_ = k + 1;
   return rec;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "fretbem/history/cycle_predictor.hpp"
 #include "fretbem/history/model.hpp"
 #include "fretbem/scenario/scenario.hpp"
 
@@ -52,6 +53,13 @@ struct MemoryCosts {
   /// the heap grows at the end of the first reversal (the path's second turning point) by
   /// ~50 grid fields at n = 128 with the tables against ~18 without, and keeps that memory.
   static constexpr double kPredictor = 600.0;
+  /// Per byte of the predictor's bound above CyclePredictor::kBytesPerCell (the sub-steps it
+  /// remembers, predictor_bytes_per_cell): the varying-load sphere table of
+  /// tools/bench/step_control_cost.py at n = 192 in 4 sub-steps a row peaked 883 bytes per cell
+  /// above the same run with the sub-steps from the one before, for ~210 bytes per cell more
+  /// entries (335 against the rows' ~125 on that table at n = 96): 4.2, as the rows' share
+  /// above (the heap keeps what entries freed, checkpoints copy them), rounded up.
+  static constexpr double kSubstepPredictorPerByte = 4.5;
   /// The Masing image (1-cycle Mindlin run over solver.predictor = none): 237 (n = 128) and
   /// 308 (n = 512) bytes per cell, its table bound MasingImage::kBytesPerCell included.
   static constexpr double kMasing = 350.0;
@@ -68,8 +76,12 @@ struct MemoryCosts {
 };
 
 /// The memory a run of `sc` needs at its peak; `cycle_predictor` as use_cycle_predictor
-/// resolves solver.predictor for its path.
-MemoryEstimate estimate_memory(const Scenario& sc, bool cycle_predictor);
+/// resolves solver.predictor for its path, `predictor_bytes` the predictor's memory bound
+/// (bytes per cell, predictor_bytes_per_cell of the path): its part above
+/// CyclePredictor::kBytesPerCell (remembered sub-steps) adds MemoryCosts::kSubstepPredictorPerByte
+/// times itself to MemoryCosts::kPredictor.
+MemoryEstimate estimate_memory(const Scenario& sc, bool cycle_predictor,
+                               double predictor_bytes = CyclePredictor::kBytesPerCell);
 
 /// CPU seconds and FFT convolutions of a half-space since construction: the one measurement the
 /// calibrations (a stepped run's here, a wear run's in wear/cost_estimate.hpp) extrapolate.
@@ -114,9 +126,9 @@ inline constexpr double kPredictedStepShare = 0.04;
 /// path's second turning point, kSettledStepShare after it, kPredictedStepShare where the
 /// cycle predictor starts the step; a step the Masing image starts counts kSettledStepShare
 /// before the second turning point and kPredictedStepShare after it; a row solved in m
-/// sub-steps (row_substeps, history/step_control.hpp) counts m x (1 or kSettledStepShare), no
-/// predictor starting them. What the estimate extrapolates with and what a run's progress ETA
-/// counts on.
+/// sub-steps (row_substeps, history/step_control.hpp) counts m x (1 or kSettledStepShare),
+/// whether the cycle predictor starts them or not (it saves a fifth of them, not the predicted
+/// rows' 0.96). What the estimate extrapolates with and what a run's progress ETA counts on.
 std::vector<double> step_cost_shares(const Model& model);
 
 /// Builds the model (operators included), solves the first steps and extrapolates: the

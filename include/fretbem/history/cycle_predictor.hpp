@@ -19,6 +19,12 @@ class CyclePredictor {
   /// node list is shared while the contact does not change). The memory guard adds it to the
   /// run's estimate (estimate_memory, cost_estimate.hpp).
   static constexpr double kBytesPerCell = 128.0;
+  /// A run whose rows are solved in K sub-steps remembers each sub-step: its bound is
+  /// kBytesPerCell x min(K, kSubstepsKept) (x kSubstepsKept under load.tolerance), and K = 4
+  /// sub-steps of 32 rows a period take 151-335 bytes per cell on the benches of
+  /// tools/bench/step_control_cost.py (sphere, rough surfaces, displacement control; 19 %
+  /// contact on the sphere). At n = 512 the bound is 128 MiB.
+  static constexpr int kSubstepsKept = 4;
 
   /// For each step k of the path: whether the transition steps[k-1] -> steps[k] occurs again
   /// at a later step (only those are worth remembering). Transitions are compared on loads
@@ -49,6 +55,13 @@ class CyclePredictor {
   /// Remembers the traction on the contact nodes (bound > 0) after the step prev -> cur.
   void remember(const LoadStep& prev, const LoadStep& cur, const VecField& traction,
                 const Field& bound);
+  /// The memory bound in force (bytes per grid cell, kBytesPerCell unless set): a run whose
+  /// rows are solved in sub-steps remembers every sub-step (bytes_per_cell in step_control.hpp).
+  void set_bytes_per_cell(double bytes) { bytes_per_cell_ = bytes; }
+  /// Entries remembered so far (a count that only grows), and the undoing of the newest
+  /// `count` of them: a row solved again in other sub-steps forgets those of its first solve.
+  std::size_t remembered() const { return remembered_; }
+  void forget_newest(std::size_t count);
   bool empty() const { return entries_.empty(); }
   /// Doubles and node indices held.
   std::size_t stored() const { return stored_; }
@@ -79,6 +92,8 @@ class CyclePredictor {
   void recount();
   std::deque<Entry> entries_;
   std::size_t stored_ = 0;  ///< doubles and indices held (a shared node list once)
+  double bytes_per_cell_ = kBytesPerCell;
+  std::size_t remembered_ = 0;
   VecField guess_;
   /// The node list whose values guess_ holds, zero elsewhere: a guess on the same list only
   /// overwrites its values (the clear of the whole grid was a pass per step).

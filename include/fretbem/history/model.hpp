@@ -63,7 +63,7 @@ bool use_cycle_predictor(const Scenario& sc, const LoadPath& path);
 /// predictor as resolved) exceeds the memory this process may use (the smaller of physical
 /// memory and its cgroup limit, core/resources.hpp): a grid that cannot fit is refused before
 /// anything large is allocated. prepare_model calls it.
-void check_memory(const Scenario& sc, bool cycle_predictor);
+void check_memory(const Scenario& sc, const LoadPath& path, bool cycle_predictor);
 /// FFT threads: one below n = 512 whatever solver.threads asks (threads cost more than they
 /// save on small grids); from there solver.threads, all usable CPUs (usable_cpus) for 0.
 int fft_threads(const SolverSpec& solver, const Grid& grid);

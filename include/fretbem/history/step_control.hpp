@@ -28,6 +28,17 @@ int fixed_substeps(const Model& model);
 /// changes (bound_moves_within), else 1 (the initial loading, k = 0, included).
 int row_substeps(const Model& model, std::size_t k);
 
+/// Whether the sub-steps of rows are remembered by the cycle predictor and start from the
+/// same sub-step one period earlier (Model::cycle_predictor, one traction component; measured
+/// in step_control.cpp). Rows solved whole take the predictor whatever this says.
+bool substeps_predicted(const Model& model);
+
+/// The cycle predictor's memory bound (bytes per grid cell) for a run of `sc` on `path`:
+/// CyclePredictor::kBytesPerCell, times the sub-steps of a row up to
+/// CyclePredictor::kSubstepsKept where rows whose normal load changes are solved in sub-steps
+/// (load.substeps > 1, or load.tolerance). The memory estimate counts it (estimate_memory).
+double predictor_bytes_per_cell(const Scenario& sc, const LoadPath& path);
+
 /// Whether the bound can move within the step from a to b, so that the step's solution depends
 /// on its length: the normal load changes (same control of the normal load and of the
 /// tangential path at both ends). A constant normal load with a constant friction law gives

@@ -103,6 +103,7 @@ class Stepper {
   void step_slip_vectors(const VecField& u0, const Eigen::VectorXd& dU, VecField& s,
                          const std::vector<Eigen::Index>* nodes = nullptr);
   void note_contact();
+  void set_predictor_bound();
   const FixedContact* fixed_contact();
   StepSlip step_slip(const VecField& u0, const VecField& tau0, const Eigen::VectorXd& dU);
   int settle_bound(const TangentialIncrement& inc, const VecField& tau0, TangentialResult& r,
@@ -138,6 +139,7 @@ class Stepper {
   double solve_substeps(const LoadStep& a, const LoadStep& b, int m, int k, StepRecord& last);
   double solve_controlled(const LoadStep& a, const LoadStep& b, int k, StepRecord& last);
   StepRecord estimated_substep(const LoadStep& ls, int k, double span);
+  void start_substep(const LoadStep& from, const LoadStep& to, int m, int k);
   void estimate_step();
   void restore_estimate_memory(const StepperMemory& m);
   void say_depth_limit(int k, double error, double span);
@@ -176,11 +178,13 @@ class Stepper {
   double wear_volume_ = 0.0;
   std::size_t next_ = 0;
   bool surface_changed_ = false;
-  double wear_cycle_ = -1.0;          // < 0: not a wear run
-  CyclePredictor predictor_;          ///< Model::cycle_predictor
-  std::vector<char> repeated_later_;  ///< CyclePredictor::repeated_later of the path
-  MasingImage::Plan masing_plan_;     ///< MasingImage::plan of the model
-  bool contact_fixed_ = false;        ///< TangentialIncrement::contact_fixed for every step
+  double wear_cycle_ = -1.0;            // < 0: not a wear run
+  CyclePredictor predictor_;            ///< Model::cycle_predictor
+  std::vector<char> repeated_later_;    ///< CyclePredictor::repeated_later of the path
+  std::vector<char> repeated_earlier_;  ///< CyclePredictor::repeated_earlier of the path
+  bool substep_predictor_ = false;      ///< substeps_predicted of the model
+  MasingImage::Plan masing_plan_;       ///< MasingImage::plan of the model
+  bool contact_fixed_ = false;          ///< TangentialIncrement::contact_fixed for every step
   /// With contact_fixed_: the contact nodes (g > 0) of the bound, the nodes accumulate_slip books.
   std::vector<Eigen::Index> contact_;
   long contact_edges_ = -1;     ///< contact_edges of contact_ (< 0: not counted yet)
@@ -218,6 +222,10 @@ class Stepper {
   /// row's end has both).
   bool substep_ = false;
   const VecField* row_guess_ = nullptr;  ///< the predictor of the row being subdivided
+  bool row_guess_predicted_ = false, row_guess_continues_ = false;  ///< its guess_ flags
+  /// The row just advanced was solved in one step (its transition is remembered, not its
+  /// sub-steps').
+  bool row_whole_ = true;
   int substep_normal_iterations_ = 0, substep_tangential_iterations_ = 0;
   int substep_coupling_iterations_ = 0;
   EstimateMemory estimate_memory_;  ///< load.tolerance > 0: the step before the next one
