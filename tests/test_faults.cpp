@@ -30,6 +30,7 @@
 #include "support/child_process.hpp"
 #include "support/temp_dir.hpp"
 #include "support/varying_normal_table.hpp"
+#include "sweep_test_util.hpp"
 
 namespace fs = std::filesystem;
 
@@ -1027,6 +1028,16 @@ TEST_F(Faults, EnsembleOverwriteKeepsAFailedMembersResults) {
   };
   EXPECT_TRUE(without_study_files(run_files(member)) == without_study_files(before));
   EXPECT_TRUE(fs::exists(member / ".fretbem-failed" / "failed_solve.h5"));
+  // Run again without --overwrite, the failed member runs again and still replaces them only
+  // once it finishes: failing once more, it leaves them as they were, not an emptied folder.
+  const Result again = run(cmd + " --set solver.max_iterations=1", dir_);
+  EXPECT_EQ(again.code, 4) << again.err;
+  EXPECT_EQ(sweep_test::column(out / "members.csv", "status"), std::vector<std::string>{"failed"});
+  EXPECT_TRUE(without_study_files(run_files(member)) == without_study_files(before));
+  // Finishing, it replaces them: the rows of the first run, whose scenario it runs again.
+  ASSERT_EQ(run(cmd, dir_).code, 0);
+  EXPECT_EQ(sweep_test::column(out / "members.csv", "status"), std::vector<std::string>{"ok"});
+  EXPECT_EQ(slurp(member / "timeseries.csv"), before.at("timeseries.csv"));
 }
 
 // A run with --overwrite killed (SIGKILL) while setting the old results aside, while putting

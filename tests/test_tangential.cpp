@@ -336,6 +336,38 @@ TEST(GrossSliding, DisplacementSaturatesForceIsAnError) {
                SolverError);
 }
 
+// A worn contact under a fixed indentation keeps little pressure, and the displacement-controlled
+// cycle then slides it millions of times its elastic displacement |C g|: across its traction the
+// slip is known only to round-off, eps |dU| ~ 2e-9 |C g| at |dU| = 1e7 U* (2e-4 at 1e12 U*),
+// above the tolerance.
+// Both algorithms converge at tolerance 1e-10 to full sliding, tau = g along the slip
+// dU - C dtau at every node, i.e. along dU up to the angle |C dtau| / |dU| <= 2 U* / |dU| (the
+// full-sliding traction displaces the surface by at most U* under the analogy, U* the
+// shift of eq. 3 at q = 1; Cerruti's cross terms at nu = 0.25 add a fraction of that).
+TEST(GrossSliding, FarPastFullSlidingConvergesToRoundoff) {
+  Hertz h(32, 0.25, Coupling::cerruti);
+  TangentialOperator op(*h.hs);
+  const Eigen::Vector2d dir(-std::sqrt(0.5), std::sqrt(0.5));
+  ProjectedCgSolver projected(op, {1e-10, 5000});
+  PartitionSolver partition(op, {1e-10, 5000});
+  for (const double U : {1e7 * h.mindlin_shift(1.0), 1e12 * h.mindlin_shift(1.0)})
+    for (TangentialSolver* solver : std::vector<TangentialSolver*>{&projected, &partition}) {
+      const std::string name =
+          (solver == &projected ? "projected " : "partition ") + std::to_string(U);
+      VecField tau = op.zeros(), u = op.zeros();
+      const auto r = step(*solver, h.bound, TangentialControl::displacement, U * dir, tau, u);
+      EXPECT_TRUE(r.converged) << name;
+      EXPECT_LE(r.residual, 1e-10) << name;
+      double worst = 0.0;
+      for (Eigen::Index k = 0; k < h.bound.size(); ++k)
+        if (h.bound(k) > 0.0)
+          worst = std::max(
+              worst, std::hypot(tau[0](k) - h.bound(k) * dir(0), tau[1](k) - h.bound(k) * dir(1)) /
+                         h.bound(k));
+      EXPECT_LE(worst, 2.0 * h.mindlin_shift(1.0) / U) << name;
+    }
+}
+
 // Robustness: extreme mu, a single contact node, no NaN, bound respected, iterations reported.
 TEST(Robustness, ExtremeFrictionAndSingleNode) {
   for (double mu : {1e-3, 10.0}) {

@@ -112,40 +112,45 @@ Vec<NC> classify_and_shift(NodeSets& sets, const TangentialIncrement& inc, const
   return Eigen::Map<Vec<NC>>(totals.data() + 1) / double(sets.nstick);
 }
 
-// One pass: stick nodes must not slip; slip nodes may slip only outward along their traction.
+// One pass: stick nodes must not slip; slip nodes may slip only outward along their traction
+// (beyond the round-off of the slip, kSlipRoundoff). The CG gradient norm stick_slip2 is the
+// whole stick slip.
 template <int NC>
 double residual_impl(NodeSets& sets, const TangentialIncrement& inc, const VecField& tau,
                      const VecField& u, double scale, const Grid& grid, Eigen::VectorXd& dU,
                      double& stick_slip2) {
   const Field& g = *inc.bound;
   const Vec<NC> shift = classify_and_shift<NC>(sets, inc, tau, u, grid.cell_area());
-  double stick2 = 0.0, slip2 = 0.0, gsum = 0.0;
+  double stick2 = 0.0, net2 = 0.0, gsum = 0.0;
   Vec<NC> force = Vec<NC>::Zero();
   for (std::size_t j = 0; j < sets.contact.size(); ++j) {
     const Eigen::Index k = sets.contact[j];
     const Vec<NC> t = at<NC>(tau, k), s = shift - (at<NC>(u, k) - at<NC>(*inc.u0, k));
     force += t, gsum += g(k);
+    const double floor =
+        kSlipRoundoff * (shift.norm() + at<NC>(u, k).norm() + at<NC>(*inc.u0, k).norm());
     if (sets.stick[j]) {
       stick2 += s.squaredNorm();
+      net2 += std::max(0.0, s.squaredNorm() - floor * floor);
       continue;
     }
     const double m = t.norm();
+    Vec<NC> across = s;
     if (m > 0.0) {
       const Vec<NC> unit = t / m;
-      slip2 += (s - std::max(0.0, s.dot(unit)) * unit).squaredNorm();
-    } else {
-      slip2 += s.squaredNorm();
+      across -= std::max(0.0, s.dot(unit)) * unit;
     }
+    net2 += std::max(0.0, across.squaredNorm() - floor * floor);
   }
   // One message for the pass's sums (summed in locals: the loop keeps them in registers).
-  std::array<double, 3 + NC> sums{stick2, slip2, gsum};
+  std::array<double, 3 + NC> sums{stick2, net2, gsum};
   Eigen::Map<Vec<NC>>(sums.data() + 3) = force;
   sets.comm->sum(sums);
-  stick2 = sums[0], slip2 = sums[1], gsum = sums[2];
+  stick2 = sums[0], net2 = sums[1], gsum = sums[2];
   force = Eigen::Map<Vec<NC>>(sums.data() + 3);
   dU = shift;
   stick_slip2 = stick2;
-  double res = std::sqrt((stick2 + slip2) / std::max(1.0, double(sets.ncontact))) / scale;
+  double res = std::sqrt(net2 / std::max(1.0, double(sets.ncontact))) / scale;
   if (inc.control == TangentialControl::force) {
     // Force mismatch relative to the full-sliding force sum g h^2.
     const double area = grid.cell_area();

@@ -35,6 +35,21 @@ bool past_full_sliding(const TangentialIncrement& inc, double bound_force, doubl
 /// on any rank.
 bool project_all(const Field& g, VecField& tau, const Communicator& comm);
 
+/// The slip-node step takes no move |y - tau| below this fraction of g: a turn under 1e-14 rad
+/// is round-off (slip_node_step.cpp). It leaves up to this fraction of |s| across a sliding
+/// node's traction.
+inline constexpr double kTurnRoundoff = 1e-14;
+
+/// Relative resolution of a node's slip: slip within this fraction of |dU| + |u| + |u0| (in
+/// quadrature) is no violation of Coulomb's law. It is the turn the slip-node step leaves
+/// (kTurnRoundoff) plus the arithmetic's: s = dU - (u - u0) carries eps times those magnitudes
+/// per component (measured across the traction on a worn contact, g = mu p <= 0.7 kPa under a
+/// fixed indentation, sliding 3.4e6 times |C g|: 2.0 (median) to 4.5 (max) eps |s| over its
+/// 392 nodes; worn further, to |C g| = 4e-19 m, the turns left reached 45.2 eps |s|, just past
+/// kTurnRoundoff). Counted in full, it held those contacts at residuals of 1.7e-9 and 9.4e-5
+/// that neither algorithm nor any sub-step could lower.
+inline constexpr double kSlipRoundoff = 2.0 * kTurnRoundoff;
+
 class BoundCache;
 
 /// The contact nodes of one increment (g > 0, fixed while the pressure is) and which of them

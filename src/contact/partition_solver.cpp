@@ -24,15 +24,19 @@ class StickSetCg {
              VecField& tau, VecField& u)
       : op_(op), inc_(inc), stick_(stick), tau_(tau), u_(u), s_(op.components()), d_(op.zeros()) {}
 
+  // The rms slip beyond its round-off (kSlipRoundoff): a stick set shifted by |dU| >> |C g|
+  // cannot slip less than a few eps |dU|, and CG ran out its iterations trying.
   double residual() {
     const Eigen::VectorXd dU = shift_estimate(inc_, u_, stick_, comm());
-    rr_ = 0.0;
+    Field s2 = Field::Zero(stick_.rows(), stick_.cols());
     for (int c = 0; c < op_.components(); ++c) {
       s_[c] = stick_ * (dU(c) - (u_[c] - (*inc_.u0)[c]));
-      rr_ += s_[c].square().sum();
+      s2 += s_[c].square();
     }
-    rr_ = comm().sum(rr_);
-    return std::sqrt(rr_ / std::max(1.0, comm().sum(stick_.sum())));
+    const Field floor = kSlipRoundoff * (dU.norm() + magnitude(u_) + magnitude(*inc_.u0));
+    rr_ = comm().sum(s2.sum());
+    const double net = comm().sum((s2 - stick_ * floor.square()).max(0.0).sum());
+    return std::sqrt(net / std::max(1.0, comm().sum(stick_.sum())));
   }
   cg::Next on_residual(int, const cg::Watch&) const { return cg::Next::proceed; }
   void refresh() {}

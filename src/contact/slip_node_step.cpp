@@ -34,7 +34,7 @@ double collect_slip_moves(Workspace& w, const VecField& tau, const VecField& u) 
     // Moves at round-off level (projecting back onto the circle a node that slips outward)
     // are no moves: counting them would make every iteration a dense update.
     const double dd = (y - t).squaredNorm();
-    if (!(dd > 1e-28 * g(k) * g(k))) continue;
+    if (!(dd > kTurnRoundoff * kTurnRoundoff * g(k) * g(k))) continue;
     w.slip.idx.push_back(k);
     for (int c = 0; c < NC; ++c) w.slip.val[c].push_back(y(c) - t(c));
     put<NC>(d, k, y - t);

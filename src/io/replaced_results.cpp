@@ -108,6 +108,12 @@ PutBack put_back_replaced_results(const fs::path& dir) {
   return done;
 }
 
+bool holds_replaced_results(const fs::path& dir) {
+  for (const char* f : {kMoving, kAside, kRestoring, kFailed})
+    if (present(dir / f)) return true;
+  return false;
+}
+
 std::string settle_replaced_results(const fs::path& dir) {
   std::string note;
   if (present(dir / kRestoring)) {  // killed while putting them back

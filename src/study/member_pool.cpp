@@ -10,6 +10,7 @@
 #include "fretbem/core/output_lock.hpp"
 #include "fretbem/core/resources.hpp"
 #include "fretbem/core/stop_signal.hpp"
+#include "fretbem/io/replaced_results.hpp"
 #include "fretbem/study/member_launcher.hpp"
 #include "fretbem/study/member_status.hpp"
 #include "fretbem/study/mpi_queue.hpp"
@@ -67,19 +68,20 @@ class Pool {
                    ": a fretbem run is still writing into it (left over from a study that was "
                    "killed?)");
     const bool resume = !opt_.restart && member_resumable(members_, k);
-    if (!resume) {
-      if (!opt_.restart) fs::remove_all(dir);  // stale outputs of an earlier attempt
-      fs::create_directories(dir);
-    }
+    // A member run afresh keeps the results it replaces until it finishes, and puts them back
+    // when it fails (io/replaced_results.hpp), as `run --overwrite` does: every member under
+    // --overwrite, and one whose folder holds results a failed or killed replacement kept.
+    // Any other folder holds the stale outputs of an earlier attempt only.
+    const bool replace = opt_.restart || (!resume && holds_replaced_results(dir));
+    if (!resume && !replace) fs::remove_all(dir);
+    fs::create_directories(dir);
     MemberStatus running;
     running.error = kMemberRunning, running.sets = members_.sets(k);
     write_member_status(dir, running);
     auto cmd = resume ? std::vector<std::string>{opt_.binary.string(), "run", "--resume",
                                                  dir.string(), "--quiet"}
                       : member_run_command(members_, k, opt_.binary);
-    // A member run afresh keeps the results it replaces until it finishes, and puts them back
-    // when it fails (io/replaced_results.hpp), as `run --overwrite` does.
-    if (opt_.restart) cmd.push_back("--overwrite");
+    if (replace) cmd.push_back("--overwrite");
     const auto handle = launcher_->start(cmd, dir / "log.txt");
     if (!handle) return finish(k, 127, 0, "could not start " + opt_.binary.string());
     running_[*handle] = {k, std::chrono::steady_clock::now(), std::move(lock)};

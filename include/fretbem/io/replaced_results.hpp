@@ -42,6 +42,11 @@ struct PutBack {
 /// Nothing is moved when no results were set aside.
 PutBack put_back_replaced_results(const std::filesystem::path& dir);
 
+/// DIR holds results a replacement keeps: set aside (a replacement stopped or killed) or put
+/// back by a failed one (its files in DIR/.fretbem-failed/ beside them). Whatever replaces them
+/// must do it as `run --overwrite` does; emptying DIR would lose finished results.
+bool holds_replaced_results(const std::filesystem::path& dir);
+
 /// Brings DIR back to a state above after an interrupted replacement: with the new run's
 /// checkpoint in DIR both are kept (the new run resumes); without it the new run's files are
 /// removed and the set-aside ones put back. Returns a one-line note when it put any back,
