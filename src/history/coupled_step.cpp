@@ -24,15 +24,27 @@ double relative_change(const VecField& a, const VecField& b, const Field& scale)
   return s2 > 0.0 ? std::sqrt(d2 / s2) : std::numeric_limits<double>::infinity();
 }
 
+// The bound an alternation ended on, g_prev = mu p_prev, carried to the new pressure p: mu
+// kept wherever p_prev > 0, the law's bound of the step's start (g on entry) elsewhere. mu is
+// what the law moved within the step (static/kinetic lowers it where a node slipped, evolving
+// settles mu(X_1)); restarting it each alternation from the step's start re-solves the
+// increment along a different path every time, and the inexact solves end a few solver
+// tolerances apart however little p moved.
+void carry_bound(const Field& g_prev, const Field& p_prev, const Field& p, Field& g) {
+  for (Eigen::Index k = 0; k < g.size(); ++k)
+    if (p_prev(k) > 0.0) g(k) = g_prev(k) * (p(k) / p_prev(k));
+}
+
 }  // namespace
 
 // Alternation m: normal solve against the gap z - u_z(tau^{m-1}) (the approach the current
-// tractions produce), bound mu p^m; tangential increment from the step's start (tau0, u0) with
-// the slip s = dU - (C tau - C tau0) - (w(p^m) - w(p0)), w the tangential displacement of the
-// pressure, entered as a shifted u0 (the increment's QP is unchanged: the pressure's share is
-// a known displacement field within it). Stops when the relative changes of p and tau from the
-// previous alternation are both <= solver.coupling_tolerance; the state at the start of a step
-// was converged, so an unchanged first alternation ends the step.
+// tractions produce), bound mu p^m with mu as the last alternation left it (carry_bound);
+// tangential increment from the step's start (tau0, u0) with the slip s = dU - (C tau - C tau0) -
+// (w(p^m) - w(p0)), w the tangential displacement of the pressure, entered as a shifted u0 (the
+// increment's QP is unchanged: the pressure's share is a known displacement field within it). Stops
+// when the relative changes of p and tau from the previous alternation are both <=
+// solver.coupling_tolerance; the state at the start of a step was converged, so an unchanged first
+// alternation ends the step.
 bool Stepper::coupled_step(const LoadStep& ls, StepRecord& rec) {
   HalfSpace& hs = *model_.half_space;
   const SolverSpec& sv = model_.scenario.solver;
@@ -65,8 +77,10 @@ bool Stepper::coupled_step(const LoadStep& ls, StepRecord& rec) {
   for (int it = 1;; ++it) {
     const Field p_prev = state_.pressure;
     const VecField tau_prev = state_.traction;
+    const Field g_prev = bound_;
     hs.normal_of_traction(state_.traction[0], state_.traction[1], uz);
     solve_normal(ls, model_.surface - uz, rec);
+    if (it > 1) carry_bound(g_prev, p_prev, state_.pressure, bound_);
     normal_iterations += rec.normal_iterations;
     hs.tangential_of_pressure(state_.pressure, w[0], w[1]);
     for (int c = 0; c < 2; ++c) u0w[c] = u0[c] - (w[c] - pressure_slip_[c]);
