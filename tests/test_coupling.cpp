@@ -472,8 +472,9 @@ namespace {
 // F_t = (F_x, F_y) the scenario asks at row k under the normal force F_z.
 using ForceTarget = std::function<std::array<double, 2>(std::size_t k, double Fz)>;
 
-// `text` run with the solver keys `loose` and `tight`: `rows` rows, every row's alternation
-// of the loose run within `tol`, F_t on its target, |F_t| <= mu_max F_z, the dissipation never
+// `text` run with the solver keys `loose` (solver.tolerance `tol`) and `tight`: `rows` rows,
+// every row's alternation of the loose run within the default coupling_tolerance 1e-6 (asked
+// below solver.tolerance too), F_t on its target, |F_t| <= mu_max F_z, the dissipation never
 // decreasing, and the shift within 10 tol of the tight run's (relative to its largest |U|:
 // each solve stops at a relative residual tol, its error a few of those).
 void expect_loose_follows_tight(const std::string& text, const std::string& loose,
@@ -487,7 +488,7 @@ void expect_loose_follows_tight(const std::string& text, const std::string& loos
   for (std::size_t k = 0; k < rows; ++k) {
     const StepRecord& r = l.rows[k];
     const std::array<double, 2> f = target(k, r.Fz);
-    EXPECT_LE(r.coupling_residual, tol) << "step " << k;
+    EXPECT_LE(r.coupling_residual, 1e-6) << "step " << k;
     EXPECT_NEAR(r.Fx, f[0], 1e-9 * r.Fz) << "step " << k;
     EXPECT_NEAR(r.Fy, f[1], 1e-9 * r.Fz) << "step " << k;
     EXPECT_LE(std::hypot(r.Fx, r.Fy), mu_max * r.Fz * (1 + 1e-12)) << "step " << k;
@@ -502,7 +503,9 @@ void expect_loose_follows_tight(const std::string& text, const std::string& loos
 }  // namespace
 
 // Evolving friction at solver.tolerance = 1e-5 above the default coupling_tolerance = 1e-6
-// (steel pair with nu 0 / 0.3, beta = 0.126, float FFTs, n = 24): F_x on its target
+// (steel pair with nu 0 / 0.3, beta = 0.126, float FFTs, n = 24): the alternation reaches
+// 1e-6 (the last one repeats the one before: each inner solve takes its warm start), F_x on
+// its target
 // q mu0 F_z (relative force control), the tight run at solver.tolerance = 1e-8 with double
 // FFTs.
 TEST(Coupling, EvolvingFrictionAtALooseToleranceConverges) {
