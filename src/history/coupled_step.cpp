@@ -29,7 +29,8 @@ double relative_change(const VecField& a, const VecField& b, const Field& scale)
 // what the law moved within the step (static/kinetic lowers it where a node slipped, evolving
 // settles mu(X_1)); restarting it each alternation from the step's start re-solves the
 // increment along a different path every time, and the inexact solves end a few solver
-// tolerances apart however little p moved.
+// tolerances apart however little p moved. A constant mu has nothing to carry (the law's mu p
+// is the same bound without the rounding of p / p_prev).
 void carry_bound(const Field& g_prev, const Field& p_prev, const Field& p, Field& g) {
   for (Eigen::Index k = 0; k < g.size(); ++k)
     if (p_prev(k) > 0.0) g(k) = g_prev(k) * (p(k) / p_prev(k));
@@ -73,7 +74,7 @@ bool Stepper::coupled_step(const LoadStep& ls, StepRecord& rec) {
     const Field g_prev = bound_;
     hs.normal_of_traction(state_.traction[0], state_.traction[1], uz);
     solve_normal(ls, model_.surface - uz, rec);
-    if (it > 1) carry_bound(g_prev, p_prev, state_.pressure, bound_);
+    if (it > 1 && model_.friction->evolves()) carry_bound(g_prev, p_prev, state_.pressure, bound_);
     normal_iterations += rec.normal_iterations;
     hs.tangential_of_pressure(state_.pressure, w[0], w[1]);
     for (int c = 0; c < 2; ++c) u0w[c] = u0[c] - (w[c] - pressure_slip_[c]);
