@@ -24,15 +24,28 @@ double relative_change(const VecField& a, const VecField& b, const Field& scale)
   return s2 > 0.0 ? std::sqrt(d2 / s2) : std::numeric_limits<double>::infinity();
 }
 
+// The bound an alternation ended on, g_prev = mu p_prev, carried to the new pressure p: mu
+// kept wherever p_prev > 0, the law's bound of the step's start (g on entry) elsewhere. mu is
+// what the law moved within the step (static/kinetic lowers it where a node slipped, evolving
+// settles mu(X_1)); restarting it each alternation from the step's start re-solves the
+// increment along a different path every time, and the inexact solves end a few solver
+// tolerances apart however little p moved. A constant mu has nothing to carry (the law's mu p
+// is the same bound without the rounding of p / p_prev).
+void carry_bound(const Field& g_prev, const Field& p_prev, const Field& p, Field& g) {
+  for (Eigen::Index k = 0; k < g.size(); ++k)
+    if (p_prev(k) > 0.0) g(k) = g_prev(k) * (p(k) / p_prev(k));
+}
+
 }  // namespace
 
 // Alternation m: normal solve against the gap z - u_z(tau^{m-1}) (the approach the current
-// tractions produce), bound mu p^m; tangential increment from the step's start (tau0, u0) with
-// the slip s = dU - (C tau - C tau0) - (w(p^m) - w(p0)), w the tangential displacement of the
-// pressure, entered as a shifted u0 (the increment's QP is unchanged: the pressure's share is
-// a known displacement field within it). Stops when the relative changes of p and tau from the
-// previous alternation are both <= solver.coupling_tolerance; the state at the start of a step
-// was converged, so an unchanged first alternation ends the step.
+// tractions produce), bound mu p^m with mu as the last alternation left it (carry_bound);
+// tangential increment from the step's start (tau0, u0) with the slip s = dU - (C tau - C tau0) -
+// (w(p^m) - w(p0)), w the tangential displacement of the pressure, entered as a shifted u0 (the
+// increment's QP is unchanged: the pressure's share is a known displacement field within it). Stops
+// when the relative changes of p and tau from the previous alternation are both <=
+// solver.coupling_tolerance; the state at the start of a step was converged, so an unchanged first
+// alternation ends the step.
 bool Stepper::coupled_step(const LoadStep& ls, StepRecord& rec) {
   HalfSpace& hs = *model_.half_space;
   const SolverSpec& sv = model_.scenario.solver;
@@ -54,37 +67,40 @@ bool Stepper::coupled_step(const LoadStep& ls, StepRecord& rec) {
   Field uz;
   TangentialResult r;
   int normal_iterations = 0, tangential_iterations = 0;
-  // A law whose bound settles within the step settles it in each alternation only to
-  // max(solver.tolerance, coupling_tolerance) (settle_bound), so the alternation cannot resolve
-  // changes below that: asked for coupling_tolerance 1e-6 at solver.tolerance 1e-5, evolving
-  // friction's traction moves by 4.9e-5 from one alternation to the next for all 50 of them
-  // (sphere n = 24, combination sweep seed 34 case 0); asked for 1e-5, 3-6 alternations.
-  const double tol = model_.friction->settles_within_step()
-                         ? std::max(sv.coupling_tolerance, sv.tolerance)
-                         : sv.coupling_tolerance;
+  // A law that settles its bound within the step (settle_bound) settles it in an alternation
+  // only to a tenth of the last alternation's change, which the next one changes p by again
+  // (the alternation contracts about tenfold): settled to solver.tolerance every time, the
+  // flat punch of docs/performance.md, "Coupled", takes 489751 convolutions at step 4, 245233
+  // so. Within ten tolerances the next alternation settles fully, and the step ends on one
+  // that did.
+  double floor = 0.0;
+  const double tol = sv.coupling_tolerance;
   for (int it = 1;; ++it) {
     const Field p_prev = state_.pressure;
     const VecField tau_prev = state_.traction;
+    const Field g_prev = bound_;
     hs.normal_of_traction(state_.traction[0], state_.traction[1], uz);
     solve_normal(ls, model_.surface - uz, rec);
+    if (it > 1 && model_.friction->evolves()) carry_bound(g_prev, p_prev, state_.pressure, bound_);
     normal_iterations += rec.normal_iterations;
     hs.tangential_of_pressure(state_.pressure, w[0], w[1]);
     for (int c = 0; c < 2; ++c) u0w[c] = u0[c] - (w[c] - pressure_slip_[c]);
     bound_start_ = bound0, pressure_start_ = pressure0;  // settle_bound's start of the step
-    r = coupled_tangential(ls, tau0, u0w, rec);
+    r = coupled_tangential(ls, tau0, u0w, rec, floor);
     tangential_iterations += r.iterations;
     const double dp = relative_change({state_.pressure}, {p_prev}, state_.pressure);
     const double dt = relative_change(state_.traction, tau_prev, bound_);
     rec.coupling_iterations = it;
     rec.coupling_residual = std::max(dp, dt);
-    if (rec.coupling_residual <= tol) break;
+    if (rec.coupling_residual <= tol && floor <= tol) break;
+    const bool settles = model_.friction->settles_within_step();
+    floor = settles && rec.coupling_residual > 10 * tol ? 0.1 * rec.coupling_residual : 0.0;
     if (it >= sv.coupling_iterations) {
       std::ostringstream msg;
       msg << "normal-tangential coupling did not converge (solver.coupling = coupled, beta = "
           << model_.scenario.material.dundurs_beta() << "): after " << it
           << " alternations the pressure still changed by " << dp << " and the traction by " << dt
-          << " (relative) > " << tol << " (solver.coupling_tolerance"
-          << (tol > sv.coupling_tolerance ? ", raised to solver.tolerance" : "") << ")"
+          << " (relative) > " << tol << " (solver.coupling_tolerance)"
           << "; raise solver.coupling_iterations or the tolerance";
       FailedSolve f;
       f.solve = "coupling";
@@ -110,7 +126,7 @@ bool Stepper::coupled_step(const LoadStep& ls, StepRecord& rec) {
 // One tangential increment of an alternation, warm-started from the last one's traction; a
 // failure names the step as tangential_step's do.
 TangentialResult Stepper::coupled_tangential(const LoadStep& ls, const VecField& tau0,
-                                             const VecField& u0, StepRecord& rec) {
+                                             const VecField& u0, StepRecord& rec, double floor) {
   TangentialIncrement inc;
   inc.bound = &bound_;
   inc.tau0 = &tau0;
@@ -118,7 +134,7 @@ TangentialResult Stepper::coupled_tangential(const LoadStep& ls, const VecField&
   set_target(ls, inc);
   TangentialResult r = solve_increment(inc, tau0, u0, rec);
   const int iterations = r.iterations;
-  r.iterations = iterations + settle_bound(inc, tau0, r, rec);
+  r.iterations = iterations + settle_bound(inc, tau0, r, rec, floor);
   return r;
 }
 

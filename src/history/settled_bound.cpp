@@ -86,17 +86,18 @@ StepSlip Stepper::step_slip(const VecField& u0, const VecField& tau0, const Eige
 
 // Solves the increment again while the law moves the bound it ends on (by more than the solver
 // tolerance relative to max g; under Coupling::coupled by more than the coupling tolerance, to
-// which the alternation that calls this converges p and tau); returns the iterations of the
-// re-solves. A bound still moving by more than sqrt(tolerance) (1e-4 at the default: far above
-// the solve's own floor) after kMaxSettles re-solves is an error naming the step.
+// which the alternation that calls this converges p and tau; by more than `floor` if larger);
+// returns the iterations of the re-solves. A bound still moving by more than sqrt(tolerance) (1e-4
+// at the default: far above the solve's own floor) after kMaxSettles re-solves is an error naming
+// the step.
 int Stepper::settle_bound(const TangentialIncrement& inc, const VecField& tau0, TangentialResult& r,
-                          StepRecord& rec) {
+                          StepRecord& rec, double floor) {
   const FrictionLaw& law = *model_.friction;
   if (!law.settles_within_step() || bound_start_.size() != bound_.size()) return 0;
   const SolverSpec& sv = model_.scenario.solver;
-  const double tol = model_.half_space->cross_coupled()
-                         ? std::max(sv.tolerance, sv.coupling_tolerance)
-                         : sv.tolerance;
+  const double tol = std::max(floor, model_.half_space->cross_coupled()
+                                         ? std::max(sv.tolerance, sv.coupling_tolerance)
+                                         : sv.tolerance);
   int iterations = 0;
   Field g1;
   double previous = 0.0, omega = 1.0;

@@ -95,7 +95,7 @@ class Stepper {
   void set_target(const LoadStep& ls, TangentialIncrement& inc) const;
   bool coupled_step(const LoadStep& ls, StepRecord& rec);
   TangentialResult coupled_tangential(const LoadStep& ls, const VecField& tau0, const VecField& u0,
-                                      StepRecord& rec);
+                                      StepRecord& rec, double floor);
   bool friction_step();
   TangentialResult solve_increment(const TangentialIncrement& inc, const VecField& tau0,
                                    const VecField& u0, StepRecord& rec);
@@ -107,7 +107,7 @@ class Stepper {
   const FixedContact* fixed_contact();
   StepSlip step_slip(const VecField& u0, const VecField& tau0, const Eigen::VectorXd& dU);
   int settle_bound(const TangentialIncrement& inc, const VecField& tau0, TangentialResult& r,
-                   StepRecord& rec);
+                   StepRecord& rec, double floor = 0.0);
   bool tangential_step(const LoadStep& ls, bool bound_changed, StepRecord& rec);
   Field gap_start();
   Field gap(const Field& uz, double delta);
