@@ -584,3 +584,31 @@ TEST(Coupling, EvolvingFrictionSettlesOnceAcrossTheAlternations) {
     }
   }
 }
+
+// A fretting loop on a rigid sphere (beta = 0.2857, mu = 0.5, contact radius about 6 cells):
+// each alternation's normal solve moves the bound mu p by 1e-2 to 1e-7 relative. Re-solves that
+// started the nodes the last alternation left on their bound as stick nodes took 831-2906
+// convolutions a step after the first (steps 1-16, 26245 in all); started on the new bound,
+// 701-879 (12705). Budget 1200 a step, with the invariants.
+TEST(Coupling, AlternationsKeepTheSlipZoneOfTheLastOne) {
+  const Recorder rec = run(sphere(32, kRigidOnSoft,
+                                  "normal_force = 0.0114\npath = sine\ncontrol = force\n"
+                                  "amplitude = 0.6\ncycles = 2\nsteps_per_cycle = 8",
+                                  "coupling = coupled"));
+  ASSERT_EQ(rec.rows.size(), 17u);
+  long convolutions = 0;
+  for (std::size_t k = 0; k < rec.rows.size(); ++k) {
+    const StepRecord& r = rec.rows[k];
+    EXPECT_LE(r.coupling_residual, 1e-6) << "step " << k;
+    if (k > 0) {
+      convolutions += r.convolutions;
+      EXPECT_GE(r.dissipation, rec.rows[k - 1].dissipation) << "step " << k;
+    }
+    EXPECT_TRUE(std::isfinite(r.Fx) && std::isfinite(r.Fy) && std::isfinite(r.dissipation));
+    EXPECT_LE(std::hypot(r.Fx, r.Fy), 0.5 * r.Fz * (1 + 1e-12)) << "step " << k;
+  }
+  EXPECT_LE(convolutions, 24000);
+  // Force control: the loop's peaks are the targets +-0.6 mu F_z.
+  EXPECT_NEAR(rec.rows[2].Fx, 0.6 * 0.5 * rec.rows[2].Fz, 1e-8 * rec.rows[2].Fz);
+  EXPECT_NEAR(rec.rows[6].Fx, -0.6 * 0.5 * rec.rows[6].Fz, 1e-8 * rec.rows[6].Fz);
+}
