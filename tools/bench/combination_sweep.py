@@ -50,8 +50,8 @@ ODE_REFERENCE_MAX_N = 200
 
 # Defects known and open: a failure matching one is labelled so, to tell it from a new one. Each
 # entry: (label, test on (case, problem text)). Coupled wear: every coupled step alternates
-# 4-8 normal and tangential solves (~1500 convolutions against ~40 under cerruti at n = 32), and
-# a wear run of 40-1000 cycles passes the CPU limit (docs/reliability.md, "Still unprotected").
+# 4-8 normal and tangential solves and every wear-map evaluation settles about 10 loops, so a
+# wear run of 40-1000 cycles can pass the CPU limit (docs/reliability.md, "Still unprotected").
 KNOWN_DEFECTS = [
     ("coupled wear past the CPU limit",
      lambda c, p: p.startswith("hang") and c.is_wear()
