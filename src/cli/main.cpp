@@ -346,7 +346,8 @@ int run_command_line(int argc, char** argv) {
     say("fretbem: error: %s\n", e.what());
     return 2;
   } catch (const std::bad_alloc&) {
-    say("fretbem: error: out of memory: the grid (grid.n, grid.nx x grid.ny), the load "
+    say("%s",
+        "fretbem: error: out of memory: the grid (grid.n, grid.nx x grid.ny), the load "
         "steps or the fields written need more memory than this machine has left\n");
     return 1;
   } catch (const std::filesystem::filesystem_error& e) {
