@@ -25,18 +25,28 @@ class StickSetCg {
       : op_(op), inc_(inc), stick_(stick), tau_(tau), u_(u), s_(op.components()), d_(op.zeros()) {}
 
   // The rms slip beyond its round-off (kSlipRoundoff): a stick set shifted by |dU| >> |C g|
-  // cannot slip less than a few eps |dU|, and CG ran out its iterations trying.
+  // cannot slip less than a few eps |dU|, and CG ran out its iterations trying. One pass over
+  // the cells, without temporaries: it runs once per CG iteration.
   double residual() {
     const Eigen::VectorXd dU = shift_estimate(inc_, u_, stick_, comm());
-    Field s2 = Field::Zero(stick_.rows(), stick_.cols());
-    for (int c = 0; c < op_.components(); ++c) {
-      s_[c] = stick_ * (dU(c) - (u_[c] - (*inc_.u0)[c]));
-      s2 += s_[c].square();
+    const int nc = op_.components();
+    for (int c = 0; c < nc; ++c) s_[c] = stick_ * (dU(c) - (u_[c] - (*inc_.u0)[c]));
+    const double shift = dU.norm();
+    double rr = 0.0, net = 0.0;
+    for (Eigen::Index k = 0; k < stick_.size(); ++k) {
+      if (!(stick_(k) > 0.0)) continue;
+      double s2 = 0.0, u2 = 0.0, u02 = 0.0;
+      for (int c = 0; c < nc; ++c) {
+        s2 += s_[c](k) * s_[c](k);
+        u2 += u_[c](k) * u_[c](k);
+        u02 += (*inc_.u0)[c](k) * (*inc_.u0)[c](k);
+      }
+      const double floor = kSlipRoundoff * (shift + std::sqrt(u2) + std::sqrt(u02));
+      rr += s2;
+      net += std::max(0.0, s2 - floor * floor);
     }
-    const Field floor = kSlipRoundoff * (dU.norm() + magnitude(u_) + magnitude(*inc_.u0));
-    rr_ = comm().sum(s2.sum());
-    const double net = comm().sum((s2 - stick_ * floor.square()).max(0.0).sum());
-    return std::sqrt(net / std::max(1.0, comm().sum(stick_.sum())));
+    rr_ = comm().sum(rr);
+    return std::sqrt(comm().sum(net) / std::max(1.0, comm().sum(stick_.sum())));
   }
   cg::Next on_residual(int, const cg::Watch&) const { return cg::Next::proceed; }
   void refresh() {}
