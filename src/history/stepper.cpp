@@ -60,8 +60,8 @@ StepperMemory Stepper::memory() const {
   if (bound_.size() > 0) m.fields["bound"] = bound_;
   m.masing = masing_.flatten();
   if (model_.scenario.load.tolerance > 0.0) {
-    m.step_estimate = {estimate_memory_.span, period_rate_.flatten()[0]};
     m.step_period = period_rate_.flatten();
+    m.step_estimate = {estimate_memory_.span, m.step_period[0]};
     m.fields["step_bound_change"] = estimate_memory_.bound_change;
     m.fields["step_slip"] = estimate_memory_.slip;
   }
