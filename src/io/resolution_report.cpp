@@ -20,11 +20,20 @@ void ResolutionReport::keep_peak(const StepRecord& r, double h) {
   radius_cells_ = std::sqrt(r.contact_area / M_PI) / h;
 }
 
+// A peak reached while the normal load rises, at which no node slips, is skipped: the bound
+// grows faster there than the tangential load, so the whole contact sticks at any grid
+// (Mindlin-Deresiewicz: no slip where |dQ| < mu dP); its zero ring says nothing of resolution.
 void ResolutionReport::on_step(const StepRecord& r, const InterfaceState&, const Model& m) {
   edge_share_ = std::max(edge_share_, r.edge_load_share);
   const bool peak = load_peak(r, last_);
+  const bool rising = load_exceeds(r.Fz, last_.Fz);
   last_ = r;
   if (!peak) return;
+  if (r.slip_area <= 0 && rising) {
+    if (ring_ < 0 && !sliding_peak_ && !stuck_peak_) keep_peak(r, m.scenario.grid.h);
+    stuck_peak_ = true;
+    return;
+  }
   if (r.stick_area <= 0 && r.slip_area > 0) {
     if (ring_ < 0 && !sliding_peak_) keep_peak(r, m.scenario.grid.h);
     sliding_peak_ = true;
@@ -46,6 +55,12 @@ void ResolutionReport::resolution_lines(const Scenario& sc) {
   const std::string where = ramp ? "at the end of the ramp" : "at the load peaks";
   const std::string nodes = std::to_string(nodes_) + " contact nodes" +
                             (sphere ? ", a/h = " + two_digits(radius_cells_) : "");
+  if (ring_ < 0 && !sliding_peak_) {
+    summary_ = "resolution: no node slips " + where +
+               ", reached while the normal load rises (full stick: no slip " +
+               (sphere ? "ring" : "zone") + " to resolve), " + nodes;
+    return;
+  }
   if (ring_ < 0) {
     summary_ = "resolution: the whole contact slides " + where + " (gross slip: no slip " +
                (sphere ? "ring" : "zone") + " to resolve), " + nodes;
@@ -54,6 +69,7 @@ void ResolutionReport::resolution_lines(const Scenario& sc) {
   const std::string zone = sphere ? "slip ring" : "slip zones (per unit length of contact edge)";
   summary_ = "resolution: " + zone + " " + two_digits(ring_) + " cells " + where +
              (ramp ? "" : " (narrowest)") + (sliding_peak_ ? ", gross slip at other peaks" : "") +
+             (stuck_peak_ ? ", full stick at peaks reached under a rising normal load" : "") +
              ", " + nodes;
   const std::string refine = sphere ? "; refine the grid (fretbem check suggests one)"
                                     : "; refine the grid (a larger grid.n at the same grid.length)";
@@ -61,7 +77,7 @@ void ResolutionReport::resolution_lines(const Scenario& sc) {
       sphere ? "dissipation and slip" : "stick area, k_x, dissipation and slip";
   if (ring_ == 0)
     warnings_.push_back("WARNING: no node slips " + where + ": the slip " +
-                        (sphere ? "ring" : "zones") + " are below one cell and the " + lost +
+                        (sphere ? "ring is" : "zones are") + " below one cell and the " + lost +
                         " are lost" + refine);
   else if (ring_ < kMinRingCells)
     warnings_.push_back(
@@ -73,7 +89,7 @@ void ResolutionReport::resolution_lines(const Scenario& sc) {
 
 void ResolutionReport::on_finish(const InterfaceState&, const Model& m) {
   const Scenario& sc = m.scenario;
-  if (ring_ >= 0 || sliding_peak_) resolution_lines(sc);
+  if (ring_ >= 0 || sliding_peak_ || stuck_peak_) resolution_lines(sc);
   if (edge_share_ > 0)
     warnings_.push_back("warning: up to " + two_digits(100 * edge_share_) +
                         " % of the normal load is on the outermost cells of the free-boundary "

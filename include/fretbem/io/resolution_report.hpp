@@ -28,6 +28,9 @@ class ResolutionReport final : public Observer {
   /// A load peak at which the whole contact slides (no stick node): a ring width there only
   /// restates the contact's size.
   bool sliding_peak_ = false;
+  /// A load peak reached under a rising normal load at which no node slips: full stick,
+  /// whatever the grid.
+  bool stuck_peak_ = false;
   long nodes_ = 0;
   double radius_cells_ = 0, edge_share_ = 0;
   StepRecord last_;
