@@ -3,6 +3,7 @@
 #include "fretbem/history/cost_estimate.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -10,6 +11,7 @@
 #include "fretbem/core/progress.hpp"
 #include "fretbem/history/masing_image.hpp"
 #include "fretbem/history/model.hpp"
+#include "fretbem/history/resolution.hpp"
 #include "fretbem/history/step_control.hpp"
 #include "fretbem/history/stepper.hpp"
 
@@ -37,6 +39,24 @@ bool masing_possible(const Scenario& sc, bool two_components) {
   const bool reverses = sc.load.path == PathType::sine || sc.load.path == PathType::table;
   return reverses && sc.solver.predictor != PredictorMode::none &&
          sc.solver.coupling == Coupling::analogy && sc.wear.law == WearLaw::none && !two_components;
+}
+
+// The largest tangential target of the path: the scale of its steps' changes.
+double target_scale(const LoadPath& path) {
+  double scale = 0.0;
+  for (const LoadStep& s : path.steps) scale = std::max(scale, s.target.norm());
+  return scale;
+}
+
+// A row that repeats the row before it to kSameLoad of the path's scale (a dwell, or a table's
+// first row whose target is a cosine's round-off, 6e-17 of its amplitude) costs a few products:
+// it is neither calibrated on nor counted as a step (the sphere of step_control_cost.py: 3
+// convolutions against 50-58 for the next rows).
+bool load_unchanged(const LoadStep& a, const LoadStep& b, double scale) {
+  return a.control == b.control && a.relative == b.relative &&
+         a.normal.force_control == b.normal.force_control &&
+         std::abs(a.normal.value - b.normal.value) <= kSameLoad * std::abs(b.normal.value) &&
+         (b.target - a.target).norm() <= kSameLoad * scale;
 }
 
 }  // namespace
@@ -86,6 +106,7 @@ std::vector<double> step_cost_shares(const Model& model) {
   // 11.7 and 9.9 against 24 and 19 convolutions at amplitudes 0.6 and 0.3; 19.4 against 25 at
   // n = 256).
   const MasingImage::Plan masing = MasingImage::plan(model);
+  const double scale = target_scale(model.path);
   std::vector<double> share(steps);
   for (std::size_t i = 0; i < steps; ++i) {
     const bool imaged = !masing.image.empty() && masing.image[i];
@@ -93,7 +114,10 @@ std::vector<double> step_cost_shares(const Model& model) {
     // cost 0.75-0.83 of a sub-step from the one before on the benches of step_control.cpp, not
     // the predicted rows' kPredictedStepShare: counted as the others, the estimate stays above.
     const int m = row_substeps(model, i);
-    share[i] = m > 1                                ? m * (i > settled ? kSettledStepShare : 1.0)
+    const bool moving = i > 0 && bound_moves_within(model.path.steps[i - 1], model.path.steps[i]);
+    share[i] = i > 0 && load_unchanged(model.path.steps[i - 1], model.path.steps[i], scale)
+                   ? kPredictedStepShare
+               : moving                             ? m * kMovingBoundStepShare
                : seen[i] || (imaged && i > settled) ? kPredictedStepShare
                : imaged || i > settled              ? kSettledStepShare
                                                     : 1.0;
@@ -116,23 +140,29 @@ RunCostEstimate estimate_run_cost(const Scenario& sc) {
     convolutions += r.convolutions;
     return double(r.convolutions);
   };
+  const std::vector<double> share = step_cost_shares(*model);
+  const double scale = target_scale(model->path);
   const double step0 = timed(0);
+  double calibrated = 0.0;  // tangential steps solved, a row's sub-steps each
+  double repeated = 0.0;    // convolutions of rows that repeat the row before
   std::size_t k = 1;
-  for (; k < steps && int(k) <= kCalibrationSteps; ++k) {
-    tangential += timed(k);
+  for (int solved = 0; k < steps && solved < kCalibrationSteps; ++k) {
+    const double c = timed(k);
+    if (load_unchanged(model->path.steps[k - 1], model->path.steps[k], scale)) {
+      repeated += c;
+      continue;
+    }
+    tangential += c, calibrated += row_substeps(*model, k), ++solved;
     if (process_cpu_seconds() - cpu0 > kCalibrationSeconds) {
       ++k;
       break;
     }
   }
-  double calibrated = 0.0;  // tangential steps solved, a row's sub-steps each
-  for (std::size_t i = 1; i < k; ++i) calibrated += row_substeps(*model, i);
   e.calibration_steps = int(k);
   const double per_step = calibrated > 0 ? tangential / calibrated : 0.0;
-  const std::vector<double> share = step_cost_shares(*model);
   double remaining = 0.0;  // remaining steps weighted by their cost relative to the calibrated
   for (std::size_t i = k; i < steps; ++i) remaining += share[i];
-  e.convolutions = step0 + tangential + per_step * remaining;
+  e.convolutions = step0 + repeated + tangential + per_step * remaining;
   e.seconds = convolutions > 0 ? e.convolutions * solve_seconds / convolutions : solve_seconds;
   e.calibration_seconds = process_cpu_seconds() - cpu0;
   return e;

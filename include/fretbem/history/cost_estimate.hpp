@@ -122,19 +122,29 @@ inline constexpr double kSettledStepShare = 0.5;
 /// and the n = 64 Mindlin loop's ETA (test_cost_estimate) put the mean near 0.04.
 inline constexpr double kPredictedStepShare = 0.04;
 
+/// Cost of a step whose normal load changes (the Coulomb bound moves within it) relative to the
+/// first such steps, at every stage of the path, a row's sub-steps each: neither settled nor
+/// predicted steps start at their answer when the bound has moved since. Measured on
+/// tools/bench/step_control_cost.py's cases (32 rows a period, 1 and 4 sub-steps a row): the
+/// third period's rows cost 0.88-1.06x the lead-in's first rows (sphere, rough, displacement),
+/// 1.06-1.58x under solver.coupling = cerruti; the first period's 1.1-1.4x.
+inline constexpr double kMovingBoundStepShare = 1.0;
+
 /// Each step's cost relative to a first tangential step (step 0 counts 1 too): 1 up to the
 /// path's second turning point, kSettledStepShare after it, kPredictedStepShare where the
 /// cycle predictor starts the step; a step the Masing image starts counts kSettledStepShare
 /// before the second turning point and kPredictedStepShare after it; a row solved in m
-/// sub-steps (row_substeps, history/step_control.hpp) counts m x (1 or kSettledStepShare),
-/// whether the cycle predictor starts them or not (it saves a fifth of them, not the predicted
-/// rows' 0.96). What the estimate extrapolates with and what a run's progress ETA counts on.
+/// sub-steps (row_substeps, history/step_control.hpp) whose normal load changes counts
+/// m x kMovingBoundStepShare, whether the cycle predictor starts it or not (it saves a fifth of
+/// them, not the predicted rows' 0.96); a row that repeats the row before it counts
+/// kPredictedStepShare. What the estimate extrapolates with and what a run's progress ETA
+/// counts on.
 std::vector<double> step_cost_shares(const Model& model);
 
 /// Builds the model (operators included), solves the first steps and extrapolates: the
 /// convolutions of step 0 plus the mean of the calibrated tangential steps (a row's sub-steps
-/// each) times the steps
-/// left (those past the second turning point at kSettledStepShare); seconds = convolutions x
+/// each; rows that repeat the row before are solved but not calibrated on) times the steps
+/// left, each at its step_cost_shares share; seconds = convolutions x
 /// the calibration's CPU seconds per convolution. Writes no file. Not for wear runs
 /// (estimate_wear_cost).
 RunCostEstimate estimate_run_cost(const Scenario& sc);
