@@ -397,13 +397,15 @@ TEST(RunMpi, PredictedSubstepsOnTwoRanksEqualSerialAndResume) {
 // varies: the sub-steps of each row come from the estimate summed over every rank's nodes and
 // from the period's rate (history/step_control.hpp), alike on every layout. Two ranks equal
 // the serial run; stopped on two ranks within the first period (the rate not yet a whole
-// period's: rows may be solved again) and resumed on two ranks, too.
+// period's: rows may be solved again) and resumed on two ranks, too; and stopped after row 0
+// (the normal load alone: no step estimated, so no estimate memory in the checkpoint).
 TEST(RunMpi, StepControlOnAVaryingTableOnTwoRanksEqualsSerialAndResumes) {
   const fs::path d = scratch("run_mpi_step_control_table");
   const std::string args = sine_table_scenario(d, 16, "linear") + " --set load.tolerance=1e-3";
   expect_sub_stepped_two_ranks(d, args);
-  stop_and_resume(d, args + " --stop-after 7", 2, 2, "stopped2_resumed2", kLayoutKx,
-                  kSubstepFields);
+  for (const int stop : {7, 1})
+    stop_and_resume(d, args + " --stop-after " + std::to_string(stop), 2, 2,
+                    "stopped2_resumed2_after" + std::to_string(stop), kLayoutKx, kSubstepFields);
 }
 
 // The table reaches |F_x| = 0.5 mu P at two turning points a period, after different F_z

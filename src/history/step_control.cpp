@@ -308,15 +308,16 @@ void Stepper::estimate_step() {
   estimated_ = true;
 }
 
-// A checkpoint without the estimate's memory (written without load.tolerance) starts it afresh.
+// A checkpoint without the estimate's memory (written without load.tolerance, or before the
+// first estimated step) starts it afresh; the period's rate is restored wherever it was written.
 void Stepper::restore_estimate_memory(const StepperMemory& m) {
   estimate_memory_ = {};
   period_rate_ = {};
+  if (!m.step_period.empty()) period_rate_ = PeriodRate::unflatten(m.step_period);
   const auto dg = m.fields.find("step_bound_change"), s = m.fields.find("step_slip");
   if (m.step_estimate.size() != 2 || dg == m.fields.end() || s == m.fields.end()) return;
   estimate_memory_.bound_change = dg->second, estimate_memory_.slip = s->second;
   estimate_memory_.span = m.step_estimate[0];
-  if (!m.step_period.empty()) period_rate_ = PeriodRate::unflatten(m.step_period);
 }
 
 void Stepper::say_depth_limit(int k, double error, double span) {

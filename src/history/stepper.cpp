@@ -62,8 +62,12 @@ StepperMemory Stepper::memory() const {
   if (model_.scenario.load.tolerance > 0.0) {
     m.step_period = period_rate_.flatten();
     m.step_estimate = {estimate_memory_.span, m.step_period[0]};
-    m.fields["step_bound_change"] = estimate_memory_.bound_change;
-    m.fields["step_slip"] = estimate_memory_.slip;
+    // None before the first estimated step (row 0 is the normal load alone): a checkpoint
+    // holds grid fields only, and a resume starts the estimate afresh without them.
+    if (estimate_memory_.slip.size() > 0) {
+      m.fields["step_bound_change"] = estimate_memory_.bound_change;
+      m.fields["step_slip"] = estimate_memory_.slip;
+    }
   }
   save_step_before(m);
   for (std::size_t c = 0; c < pressure_slip_.size(); ++c)

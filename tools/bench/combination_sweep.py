@@ -15,6 +15,9 @@ judged:
              handler must leave nothing a resume takes (exit 2, one line)
            - an ODE wear run (erk, dirk, arkode; N <= 200): final delta and max worn depth
              within 10 (rtol W + atol) of `wear.integrator = cycle` (combo_invariants.py)
+           - load-step keys: a wear run refuses load.substeps > 1 and load.tolerance > 0,
+             no other run refuses them, and a constant-load case drawn for it gives the same
+             bytes run one step a row (steps_pair)
   fail     anything else: crash (signal), hang (over 60 s of CPU), exit 1 or 3, a message
            that is not one line or shows library text, NaN/inf in an output, a broken invariant
 
@@ -270,6 +273,46 @@ def ode_against_cycle(binary, case, cwd, runs):
                             os.path.join(cwd, "plain", "cycles.csv"))
 
 
+STEP_KEYS = ("load.substeps", "load.tolerance", "load.interpolation")
+
+
+def step_key_problems(case, plain):
+    """A wear run must refuse sub-steps and error control (README); elsewhere the drawn values
+    (substeps 1-8, tolerance <= 1e-2, cubic through a normal load of 0.7-1.3 P) are valid."""
+    if case.steps_refused() and plain.code == 0:
+        return [f"steps: a wear run took load.substeps = {case.get('load.substeps', '-')}, "
+                f"load.tolerance = {case.get('load.tolerance', '-')} (README: refused)"]
+    if not case.steps_refused() and is_refusal(plain) and \
+            any(key in first_line(plain.err) for key in STEP_KEYS):
+        return [f"steps: refused a valid load-step key: {first_line(plain.err)}"]
+    return []
+
+
+def steps_pair(binary, case, cwd, runs):
+    """A constant-normal-load case with sub-steps or error control against the same case solved
+    one step a row: rows at constant normal load are never subdivided (README, load.substeps),
+    so both runs make the same solves in the same order and every cell, `convolutions` and
+    `kx` included, must be byte for byte the same (StepControl.ConstantNormalLoadIsNeverSubdivided
+    asserts the same of one scenario)."""
+    if "steps_pair" not in case.notes:
+        return []
+    keys = ["load.substeps=1", "load.tolerance=0"]
+    if case.get("load.path") != "table":
+        keys.append("load.interpolation=linear")  # read by tables only
+    args = ["run", "scenario.ini", "--out", "whole", "--quiet"]
+    for key in keys:
+        args += ["--set", key]
+    whole = fretbem(binary, args, cwd)
+    runs.append(whole)
+    problems = exit_problems(whole, "one step a row")
+    if problems:
+        return problems
+    for name in ("timeseries.csv", "cycles.csv"):
+        problems += same_rows("one step a row", name, os.path.join(cwd, "whole", name),
+                              os.path.join(cwd, "plain", name), rtol=None, what="steps")
+    return problems
+
+
 def known_defect(case, problems):
     """The known defects the problems match, and NEW for any problem that matches none."""
     labels = sorted({label for p in problems for label, match in KNOWN_DEFECTS if match(case, p)})
@@ -293,11 +336,12 @@ def judge_case(binary, case, cwd):
     write_case(case, cwd)
     runs = [fretbem(binary, ["run", "scenario.ini", "--out", "plain", "--quiet"], cwd)]
     plain = runs[0]
-    if is_refusal(plain):
+    problems = step_key_problems(case, plain)
+    if is_refusal(plain) and not problems:
         return "refused", [first_line(plain.err)], runs
-    problems = exit_problems(plain, "run")
+    problems += exit_problems(plain, "run") if not is_refusal(plain) else []
     if not problems:
-        problems = finished_problems(case, cwd, "plain")
+        problems = finished_problems(case, cwd, "plain") + steps_pair(binary, case, cwd, runs)
         if case.is_wear():
             problems += ode_against_cycle(binary, case, cwd, runs)
         if case.mode == "stop":
@@ -313,7 +357,7 @@ def sweep_case(binary, seed, index, root, keep, limits):
     t0 = time.time()
     outcome, problems, runs = judge_case(binary, case, cwd)
     if outcome != "fail" and not keep:
-        for out in ("plain", "stop", "term", "cycle"):
+        for out in ("plain", "stop", "term", "cycle", "whole"):
             shutil.rmtree(os.path.join(cwd, out), ignore_errors=True)
     failed = outcome == "fail"
     return {"case": index, "mode": case.mode, "mode_arg": case.mode_arg, "outcome": outcome,

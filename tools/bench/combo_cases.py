@@ -4,8 +4,10 @@ draw_case(seed, index) returns a Case: every scenario key a user can combine (RE
 files"), drawn at random but sized so that a run takes 0.1-2 s (n = 16-48, few steps), plus the
 input files it needs (height maps in .npy/.txt/.h5/.npz, load tables) and the interruption to
 try (none, `--stop-after K`, SIGTERM at once, in step 0 or after k rows). The same
-(seed, index) always gives the same case, so any case can be rerun alone. Lengths in m, forces
-in N, moduli in Pa.
+(seed, index) always gives the same case, so any case can be rerun alone. The load-step keys
+(`load.substeps`, `load.tolerance`, `load.interpolation`) come from a stream of their own, so
+the other keys of a (seed, index) stay those it drew before they were added. Lengths in m,
+forces in N, moduli in Pa.
 """
 import io
 import math
@@ -67,6 +69,14 @@ class Case:
 
     def varying_normal(self):
         return "varying_normal" in self.notes
+
+    def subdivides(self):
+        """Whether the load-step keys ask for more than one solve a row (README, load.*)."""
+        return int(self.get("load.substeps", 1)) > 1 or float(self.get("load.tolerance", 0)) > 0
+
+    def steps_refused(self):
+        """Wear runs refuse `load.tolerance` > 0 and an explicit `load.substeps` > 1 (README)."""
+        return self.is_wear() and self.subdivides()
 
     def bound_moves(self):
         """Whether the Coulomb bound mu p moves within steps, so that nodes can lose contact:
@@ -365,6 +375,40 @@ def draw_mode(r, wear):
     return mode, None
 
 
+STEP_SUBSTEPS = [1, 2, 3, 4, 8]
+STEP_TOLERANCES = [0, 1e-2, 3e-3, 1e-3]
+STEP_MAX_N = 32  # sub-steps multiply a row's solves (8 of them, or up to 256 under tolerance)
+
+
+def step_share(case):
+    """How often a case draws the load-step keys: nearly always where they act (a table whose
+    normal load varies, outside wear runs), sometimes where they must be no-ops (constant normal
+    load) or refused (wear runs, README: `load.substeps` > 1 and `load.tolerance` > 0)."""
+    if case.get("load.path") not in ("sine", "table"):
+        return 0.0
+    return 0.9 if case.varying_normal() and not case.is_wear() else 0.25
+
+
+def draw_steps(seed, index, case, n):
+    """Adds the load-step keys to a case of at most STEP_MAX_N cells a side; notes "steps", and
+    "steps_pair" on some constant-load cases that the sweep reruns without them."""
+    r = random.Random(f"combination-sweep-steps:{seed}:{index}")
+    if n > STEP_MAX_N or r.random() >= step_share(case):
+        return
+    k = case.keys
+    if r.random() < 0.8:
+        k["load.substeps"] = r.choice(STEP_SUBSTEPS)
+    if r.random() < 0.6:
+        k["load.tolerance"] = r.choice(STEP_TOLERANCES)
+    if r.random() < 0.7:
+        k["load.interpolation"] = r.choice(["linear", "cubic"])
+    if case.varying_normal() and case.subdivides() and r.random() < 0.4:
+        k["solver.predictor"] = "cycle"  # it remembers each sub-step of a repeated row
+    case.notes.append("steps")
+    if case.subdivides() and not case.varying_normal() and not case.is_wear() and r.random() < 0.5:
+        case.notes.append("steps_pair")
+
+
 def draw_case(seed, index, limits=FULL):
     r = random.Random(f"combination-sweep:{seed}:{index}")
     k = {}
@@ -394,4 +438,6 @@ def draw_case(seed, index, limits=FULL):
         draw_wear(r, k, scales, integ, limits)
     draw_output(r, k, wear)
     mode, arg = draw_mode(r, wear)
-    return Case(index, k, files, mode, arg, notes)
+    case = Case(index, k, files, mode, arg, notes)
+    draw_steps(seed, index, case, max(nx, ny))
+    return case

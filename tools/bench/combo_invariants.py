@@ -15,6 +15,10 @@ pass. Tolerances and why:
   "Integrators": atol = rtol x the unworn indentation unless wear.atol is given) with the
   factor 10 of tools/bench/wear_sweep.py's reference cases for the global error; delta within
   that plus 10 solver tolerances of delta (its normal solve).
+- step_error (timeseries.csv and cycles.csv): finite and >= 0, as an estimate of a relative
+  error; exactly 0 where nothing is estimated: load.tolerance 0 or absent, a normal load that
+  never changes (rows at constant normal load are never subdivided), wear runs (README,
+  step_error).
 - resumed = uninterrupted: byte-identical CSV cells except `convolutions` (a work counter) and
   `kx` within 1e-7 relative (docs/reliability.md, "the uninterrupted run's rows"); with
   solver.fft_precision = float within 2 (0.1 tol + 2^-23), tol = max(solver.tolerance, 1e-6):
@@ -113,6 +117,19 @@ def energy_law_cycles(case, header, rows):
     return []
 
 
+def step_error_valid(case, name, header, rows):
+    if "step_error" not in header:
+        return []
+    estimated = float(case.get("load.tolerance", 0)) > 0 and case.varying_normal() \
+        and not case.is_wear()
+    for i, e in enumerate(column(header, rows, "step_error")):
+        if not (math.isfinite(e) and e >= 0) or (e != 0 and not estimated):
+            return [f"step-error: {name} row {i}: step_error {e:g} (load.tolerance "
+                    f"{case.get('load.tolerance', 0)}, normal load "
+                    f"{'varying' if case.varying_normal() else 'constant'})"]
+    return []
+
+
 def run_invariants(case, out):
     """Every invariant a run that exited 0 must satisfy."""
     problems = []
@@ -121,8 +138,10 @@ def run_invariants(case, out):
         return ["outputs: timeseries.csv has no rows"]
     problems += friction_bound(case, header, rows)
     problems += dissipation_monotone(header, rows)
+    problems += step_error_valid(case, "timeseries.csv", header, rows)
+    ch, cr = read_rows(os.path.join(out, "cycles.csv"))
+    problems += step_error_valid(case, "cycles.csv", ch, cr)
     if case.is_wear():
-        ch, cr = read_rows(os.path.join(out, "cycles.csv"))
         problems += wear_shares(case, ch, cr)
         if case.get("wear.law") == "energy" and case.get("wear.integrator") == "cycle":
             problems += energy_law_rows(case, header, rows)
@@ -142,7 +161,12 @@ def kx_rtol(case):
 
 
 def cells_equal(name, a, b, rtol=KX_RTOL):
-    if a == b or name in WORK_COUNTERS:
+    """Resumed against uninterrupted; rtol None: every cell byte for byte."""
+    if a == b:
+        return True
+    if rtol is None:
+        return False
+    if name in WORK_COUNTERS:
         return True
     if name not in KX_COLUMNS:
         return False
@@ -152,16 +176,16 @@ def cells_equal(name, a, b, rtol=KX_RTOL):
     return abs(x - y) <= rtol * max(abs(x), abs(y))
 
 
-def same_rows(label, file, reference, resumed, rtol=KX_RTOL):
+def same_rows(label, file, reference, resumed, rtol=KX_RTOL, what="resume"):
     (h1, r1), (h2, r2) = read_rows(reference), read_rows(resumed)
     if h1 != h2:
-        return [f"resume ({label}): {file} header differs"]
+        return [f"{what} ({label}): {file} header differs"]
     if len(r1) != len(r2):
-        return [f"resume ({label}): {file} has {len(r2)} rows, the uninterrupted run {len(r1)}"]
+        return [f"{what} ({label}): {file} has {len(r2)} rows, the reference {len(r1)}"]
     for i, (a, b) in enumerate(zip(r1, r2)):
         for name, x, y in zip(h1, a, b):
             if not cells_equal(name, x, y, rtol):
-                return [f"resume ({label}): {file} row {i} column {name}: {y} vs uninterrupted {x}"]
+                return [f"{what} ({label}): {file} row {i} column {name}: {y} vs reference {x}"]
     return []
 
 
