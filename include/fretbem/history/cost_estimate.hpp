@@ -128,7 +128,9 @@ inline constexpr double kPredictedStepShare = 0.04;
 /// before the second turning point and kPredictedStepShare after it; a row solved in m
 /// sub-steps (row_substeps, history/step_control.hpp) counts m x (1 or kSettledStepShare),
 /// whether the cycle predictor starts them or not (it saves a fifth of them, not the predicted
-/// rows' 0.96). What the estimate extrapolates with and what a run's progress ETA counts on.
+/// rows' 0.96). Under solver.coupling = coupled (cross-coupled bodies) every step counts 1 (m
+/// for a row in m sub-steps): its alternations cost as much in every cycle. What the estimate
+/// extrapolates with and what a run's progress ETA counts on.
 std::vector<double> step_cost_shares(const Model& model);
 
 /// Builds the model (operators included), solves the first steps and extrapolates: the
