@@ -236,7 +236,7 @@ WearCycle WearCycles::steady(double N, const Field& worn) {
 }
 
 // Under solver.coupling = coupled the loop approaches its periodic state slowly from the
-// traction-free start: the loops' wear changed by 46-105 % from the first loop to the second,
+// traction-free start: the loops' wear changed by 46-106 % from the first loop to the second,
 // then by a factor 0.42 a loop (combination sweep seed 42 case 27), 0.51 (seed 46 case 11), or
 // 0.7 rising to 0.88, like k^-2 (seed 45 case 45: the approach delta ratchets up by less each
 // loop), so each evaluation settled in 10-11 loops. The periodic state of the last evaluated
