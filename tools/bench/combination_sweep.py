@@ -52,14 +52,9 @@ QUICK_SEED, QUICK_CASES = 5, 40
 ODE_REFERENCE_MAX_N = 200
 
 # Defects known and open: a failure matching one is labelled so, to tell it from a new one. Each
-# entry: (label, test on (case, problem text)). Coupled wear: every coupled step alternates
-# 4-8 normal and tangential solves and every wear-map evaluation settles about 10 loops, so a
-# wear run of 40-1000 cycles can pass the CPU limit (docs/reliability.md, "Still unprotected").
-KNOWN_DEFECTS = [
-    ("coupled wear past the CPU limit",
-     lambda c, p: p.startswith("hang") and c.is_wear()
-     and c.get("solver.coupling") == "coupled"),
-]
+# entry: (label, test on (case, problem text)). None is open: the labels of fixed defects are
+# removed, so that their return is labelled NEW.
+KNOWN_DEFECTS = []
 
 
 class Run:

@@ -137,8 +137,9 @@ inline constexpr double kMovingBoundStepShare = 1.0;
 /// sub-steps (row_substeps, history/step_control.hpp) whose normal load changes counts
 /// m x kMovingBoundStepShare, whether the cycle predictor starts it or not (it saves a fifth of
 /// them, not the predicted rows' 0.96); a row that repeats the row before it counts
-/// kPredictedStepShare. What the estimate extrapolates with and what a run's progress ETA
-/// counts on.
+/// kPredictedStepShare. Under solver.coupling = coupled (cross-coupled bodies) every other step
+/// counts 1 (m for a row in m sub-steps): its alternations cost as much in every cycle. What
+/// the estimate extrapolates with and what a run's progress ETA counts on.
 std::vector<double> step_cost_shares(const Model& model);
 
 /// Builds the model (operators included), solves the first steps and extrapolates: the

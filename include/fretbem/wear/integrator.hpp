@@ -135,8 +135,11 @@ class WearCycles {
   WearCycle carried(double N);
   /// The steady cycle of surface z0 - worn, from a fresh traction state (ODE right-hand side):
   /// the virgin loading to the first turning point, then loops back to it until the loop
-  /// repeats (one pass where Masing's rule closes it), the last one measured. Throws
-  /// InputError when it does not repeat within kMaxSettleLoops.
+  /// repeats (one pass where Masing's rule closes it), the last one measured. Under
+  /// solver.coupling = coupled, once a loop has run, the loops start instead from the state
+  /// the last steady() or continued() ended in, carried onto this surface
+  /// (steady_from_last_loop). Throws InputError when it does not repeat within
+  /// kMaxSettleLoops.
   WearCycle steady(double N, const Field& worn);
   /// Loops of the steady cycle run at most to find it periodic.
   static constexpr int kMaxSettleLoops = 16;
@@ -185,9 +188,11 @@ class WearCycles {
   const Communicator& comm() const;
   /// Largest value of a field over the grid's ranks (collective).
   double largest(const Field& x) const;
-  /// The normal loading alone of surface z0 - worn from a traction-free state, silent and
-  /// leaving the run's cumulative dissipation as it was; the stepper holds its state.
-  const InterfaceState& probe_loading(const Field& worn);
+  /// The normal loading alone of surface z0 - worn from a traction-free state, silent: its
+  /// state is returned, the stepper (the run's cumulative dissipation with it) and the model's
+  /// surface are left as they were.
+  InterfaceState probe_loading(const Field& worn);
+  WearCycle steady_from_last_loop(double N, const Field& worn);
   int settle();
   Field loop_wear();
   StepRecord step(const LoadStep& ls, double time, bool emit);
@@ -201,7 +206,9 @@ class WearCycles {
   LoadStep initial_;
   std::vector<LoadStep> cycle_, virgin_, steady_;  // one period; to 1st turning; turning->turning
   double turn_ = 0.0;                              // time of the first turning point
-  bool settles_ = false;  // the steady loop is run until it repeats (not closed at once)
+  bool settles_ = false;         // the steady loop is run until it repeats (not closed at once)
+  bool carries_loop_ = false;    // coupled: steady() starts from the last loop's end
+  bool holds_loop_end_ = false;  // the stepper holds the end of a steady or continued loop
   double simulated_ = 0.0;
   int evaluations_ = 0, row_ = 0, index_ = 0;
   WearWarmStart warm_;

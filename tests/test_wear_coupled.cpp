@@ -1,0 +1,164 @@
+// Wear under solver.coupling = coupled: a wear-map evaluation's loops start from the state the
+// last loop ended in (WearCycles::steady_from_last_loop). Its cost in simulated cycles, its
+// map against a cold start settled ten times tighter, the run against the cycle-by-cycle
+// reference, and resume = the uninterrupted run.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "fretbem/history/model.hpp"
+#include "fretbem/history/stepper.hpp"
+#include "fretbem/scenario/scenario.hpp"
+#include "fretbem/wear/integrator.hpp"
+#include "support/cli.hpp"
+#include "support/csv_text.hpp"
+#include "support/temp_dir.hpp"
+
+using namespace fretbem;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A rigid sphere on a half-space of nu = 0 (Dundurs beta = 1/2, the strongest coupling), n = 16
+// (Hertz radius about 4 cells), F_z = 0.229 N +-26 % with F_x = +-0.06 N (0.33 mu F_z) on four
+// rows a period: the loop does not close at once; from the traction-free start the loops' wear
+// changes by 1.7, 1.4e-2, 1.1e-3, 1.2e-5 of its largest value (5 loops to settle within 1e-3).
+fs::path table() {
+  const fs::path f = fretbem_test::process_temp_dir() / "coupled_wear.csv";
+  std::ofstream(f) << "time,Fz,Fx\n0,0.2287,0\n0.25,0.288,0.06\n0.5,0.2287,0\n"
+                      "0.75,0.169,-0.06\n1,0.2287,0\n";
+  return f;
+}
+
+std::string scenario(double rtol) {
+  return "[material]\nE = 5e9\nnu = 0\nmu = 0.8\n[grid]\nn = 16\nlength = 2.8e-4\n"
+         "[surface]\ntype = sphere\nradius = 0.01\n[load]\npath = table\ncontrol = force\n"
+         "table = " +
+         table().string() +
+         "\n[solver]\ntolerance = 1e-6\nstiffness = false\ncoupling = coupled\n"
+         "[wear]\nlaw = archard\nintegrator = erk\ncycles = 40\ncoefficient = 1e-10\nrtol = " +
+         std::to_string(rtol) + "\n";
+}
+
+fs::path scenario_file(double rtol) {
+  const fs::path f = fretbem_test::process_temp_dir() / "coupled_wear.ini";
+  std::ofstream(f) << scenario(rtol);
+  return f;
+}
+
+std::unique_ptr<Model> model_of(double rtol) {
+  return build_model(parse_scenario(scenario(rtol), "coupled_wear", fs::temp_directory_path()));
+}
+
+double largest(const Field& x) {
+  return x.abs().maxCoeff();
+}
+
+// The last data row of a CSV file, split into numbers by column name.
+double last_value(const fs::path& csv, const std::string& column) {
+  std::ifstream in(csv);
+  std::string header, line, last;
+  std::getline(in, header);
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  std::stringstream h(header), v(last);
+  for (std::string name, cell; std::getline(h, name, ',') && std::getline(v, cell, ',');)
+    if (name == column) return std::stod(cell);
+  ADD_FAILURE() << column << " not in " << csv;
+  return NAN;
+}
+
+}  // namespace
+
+// The first evaluation settles from the traction-free state: the virgin loading (0.25 of a
+// period) and 5 loops, then the measured one: 6.25 simulated cycles. The next evaluation, on
+// the surface worn by one cycle (the explicit integrator's first step), starts from the end of
+// that loop and passes the same settle test after 2 loops (in the run of 40 cycles every later
+// evaluation took 2 or 3): at most 3 loops and the measured one, 4 cycles. A cold start takes
+// 6.25 again.
+//
+// Its map: both starts stop when two loops in a row wear the same within 1e-3 (0.1 wear.rtol)
+// of the largest, and while the loop contracts the change by r <= 1/2 a loop (here about 0.08
+// from the second loop on) the wear left to settle is r / (1 - r) <= 1 times the last change,
+// so each is within 1e-3 of the periodic wear. The reference is a cold start settled to 1e-4
+// (wear.rtol = 1e-3): the two differ by at most 2e-3 + 1e-4.
+TEST(WearCoupled, EvaluationStartsFromTheLastLoop) {
+  auto model = model_of(0.01);
+  Stepper stepper(*model);
+  WearCycles cycles(*model, stepper);
+  cycles.start();
+  const int n = model->scenario.grid.nx;
+  const WearCycle c0 = cycles.steady(0.0, Field::Zero(n, n));
+  const double first = cycles.simulated();
+  const Field worn = 1.0 * c0.rate;
+  const WearCycle c1 = cycles.steady(1.0, worn);
+  const double second = cycles.simulated() - first;
+
+  auto ref_model = model_of(1e-3);
+  Stepper ref_stepper(*ref_model);
+  WearCycles ref_cycles(*ref_model, ref_stepper);
+  ref_cycles.start();
+  const WearCycle ref = ref_cycles.steady(1.0, worn);
+  const double difference = largest(c1.rate - ref.rate) / largest(ref.rate);
+  std::printf(
+      "[ coupled ] first evaluation %.4g simulated cycles, second %.4g; its wear "
+      "against a cold start settled to 1e-4: %.3g of the largest\n",
+      first, second, difference);
+  EXPECT_GT(first, 6.0);  // the traction-free start takes 5 loops or more
+  EXPECT_LE(second, 4.0 + 1e-9);
+  EXPECT_LE(difference, 2.1e-3);
+}
+
+// The ODE run against the cycle-by-cycle reference: final largest worn depth W within 10 rtol W
+// and delta within that plus 10 solver tolerances of delta (the combination sweep's test
+// without its atol, which is rtol times the indentation here, about 3 W). Stopped after 1 step
+// (N = 1, after the snapshot whose pressure probe leaves the stepper at the last loop's end)
+// and after 5 (N = 20, after stretches of cycles one by one), then resumed: the uninterrupted
+// run's rows byte for byte (the checkpoint holds the loop's end the next evaluation starts
+// from).
+TEST(WearCoupled, RunMatchesCycleModeAndResumesAsUninterrupted) {
+  const double rtol = 0.01;
+  const fs::path ini = scenario_file(rtol), dir = fretbem_test::process_temp_dir().path();
+  const fs::path full = fretbem_test::process_temp_dir().vacant("coupled_full"),
+                 cycle = fretbem_test::process_temp_dir().vacant("coupled_cycle");
+  ASSERT_EQ(fretbem_test::run_fretbem("run " + ini.string() + " --quiet --out " + full.string(),
+                                      "coupled_full")
+                .status,
+            0);
+  ASSERT_EQ(fretbem_test::run_fretbem("run " + ini.string() + " --quiet --out " + cycle.string() +
+                                          " --set wear.integrator=cycle",
+                                      "coupled_cycle")
+                .status,
+            0);
+  const double W = last_value(full / "cycles.csv", "max_worn_depth");
+  const double Wc = last_value(cycle / "cycles.csv", "max_worn_depth");
+  const double d = last_value(full / "cycles.csv", "delta");
+  const double dc = last_value(cycle / "cycles.csv", "delta");
+  const double simulated = last_value(full / "cycles.csv", "simulated_cycles");
+  std::printf(
+      "[ coupled ] N = 40: max worn depth %.6g m (cycle mode %.6g), delta %.8g m "
+      "(%.8g), %.4g simulated cycles\n",
+      W, Wc, d, dc, simulated);
+  ASSERT_GT(Wc, 0.0);
+  EXPECT_LE(std::abs(W - Wc), 10.0 * rtol * Wc);
+  EXPECT_LE(std::abs(d - dc), 10.0 * rtol * Wc + 10.0 * 1e-6 * dc);
+  for (int stop : {1, 5}) {
+    const fs::path part =
+        fretbem_test::process_temp_dir().vacant("coupled_stop" + std::to_string(stop));
+    ASSERT_EQ(fretbem_test::run_fretbem("run " + ini.string() + " --quiet --out " + part.string() +
+                                            " --stop-after " + std::to_string(stop),
+                                        "coupled_stop")
+                  .status,
+              0);
+    ASSERT_EQ(
+        fretbem_test::run_fretbem("run --quiet --resume " + part.string(), "coupled_resume").status,
+        0);
+    for (const char* file : {"cycles.csv", "timeseries.csv"})
+      EXPECT_EQ(fretbem_test::read_text(part / file), fretbem_test::read_text(full / file))
+          << file << ", stopped after " << stop << " steps";
+  }
+}
