@@ -1,0 +1,165 @@
+"""Checks of the combination sweep's reruns (combination_sweep.py): a case on two MPI ranks
+against the serial run, and a run folder's files before and after an --overwrite rerun.
+
+Two ranks against one process (docs/mpi-grid.md, "Tests" and "What differs from the serial
+run"): both solved to MPI_TOLERANCE = 1e-12, every column of timeseries.csv and cycles.csv and
+every numeric dataset of result.h5 within 1e-10 of its largest magnitude: the ranks change the
+order of the sums, so the iterates part by round-off and each stops within the solver
+tolerance of the exact increment; 1e-12 makes the 1e-10 a statement about the distribution.
+Excepted, as documented: `convolutions` (no sparse direct sums on a distributed grid) and the
+`*_iterations`, `*_residual` columns (where each run's stopping test passed); k_x columns
+within 2e-9, twice the stiffness solve's tolerance floor of 1e-9. What the table of
+docs/mpi-grid.md refuses on ranks (refused_on_ranks) must be one error line and exit 2.
+"""
+import math
+import os
+
+from combo_invariants import read_rows
+
+MPI_TOLERANCE = 1e-12
+MPI_RELATIVE = 1e-10
+MPI_KX_RELATIVE = 2 * 1e-9
+# result.h5's run description (text) and the compound copy of the time series, whose columns
+# /series/timeseries/NAME are compared one by one.
+H5_SKIPPED = ("timeseries", "run_id", "scenario")
+
+
+def refused_on_ranks(case):
+    """Why docs/mpi-grid.md's table refuses the case on two ranks, or None when it runs."""
+    if case.get("friction.law", "constant") != "constant":
+        return "friction.law"
+    if case.get("solver.monotone") == "shortcut":
+        return "solver.monotone = shortcut"
+    if case.get("solver.fft_precision") == "float":
+        return "solver.fft_precision = float"
+    if case.get("solver.coupling") == "coupled" and not identical_bodies(case):
+        return "solver.coupling = coupled with cross terms"
+    return None
+
+
+def identical_bodies(case):
+    """Two bodies of the same E and nu: no normal-tangential cross term (Dundurs beta = 0)."""
+    return "material.E2" in case.keys and \
+        (case.get("material.E2"), case.get("material.nu2")) == \
+        (case.get("material.E"), case.get("material.nu"))
+
+
+def solver_cost(name):
+    return name == "convolutions" or name.endswith("_iterations") or name.endswith("_residual")
+
+
+def relative_difference(a, b):
+    """Largest |a - b| over the largest |a|; NaN agrees with NaN only (inf: they disagree)."""
+    if len(a) != len(b):
+        return math.inf
+    scale = diff = 0.0
+    for x, y in zip(a, b):
+        if math.isnan(x) or math.isnan(y):
+            if math.isnan(x) != math.isnan(y):
+                return math.inf
+            continue
+        if math.isinf(x) or math.isinf(y):
+            if x != y:
+                return math.inf
+            continue
+        scale, diff = max(scale, abs(x)), max(diff, abs(x - y))
+    return 0.0 if diff == 0.0 else diff / scale
+
+
+def number(cell):
+    try:
+        return float(cell)
+    except ValueError:
+        return math.nan
+
+
+def same_values(label, where, name, a, b):
+    if solver_cost(name):
+        return []
+    bound = MPI_KX_RELATIVE if name.startswith("kx") else MPI_RELATIVE
+    d = relative_difference(a, b)
+    if d > bound:
+        return [f"mpi ({label}): {where} {name}: {d:.3g} of its largest magnitude apart "
+                f"(allowed {bound:g})"]
+    return []
+
+
+def same_table(label, name, serial, mpi):
+    (h1, r1), (h2, r2) = read_rows(serial), read_rows(mpi)
+    if h1 != h2:
+        return [f"mpi ({label}): {name} header differs"]
+    if len(r1) != len(r2):
+        return [f"mpi ({label}): {name} has {len(r2)} rows, the serial run {len(r1)}"]
+    problems = []
+    for i, col in enumerate(h1):
+        problems += same_values(label, f"{name} column", col, [number(r[i]) for r in r1],
+                                [number(r[i]) for r in r2])
+    return problems[:2]
+
+
+def numeric_datasets(path):
+    """{path: flat list of floats} of every numeric dataset of an HDF5 file, {} unreadable."""
+    import h5py
+    import numpy as np
+    out = {}
+
+    def visit(name, obj):
+        if isinstance(obj, h5py.Dataset) and obj.dtype.kind in "iuf" and \
+                name not in H5_SKIPPED:
+            out[name] = np.asarray(obj[()], dtype=float).ravel().tolist()
+    try:
+        with h5py.File(path, "r") as f:
+            f.visititems(visit)
+    except OSError:
+        return {}
+    return out
+
+
+def same_datasets(label, serial, mpi):
+    a, b = numeric_datasets(serial), numeric_datasets(mpi)
+    if set(a) != set(b):
+        missing, extra = sorted(set(a) - set(b))[:2], sorted(set(b) - set(a))[:2]
+        return [f"mpi ({label}): result.h5 datasets differ (missing {missing}, extra {extra})"]
+    problems = []
+    for name in sorted(a):
+        problems += same_values(label, f"result.h5 {name}", name.rsplit("/", 1)[-1], a[name],
+                                b[name])
+    return problems[:2]
+
+
+def same_as_serial(label, serial, mpi):
+    """The run folder `mpi` against the serial run folder `serial` (the module's bounds)."""
+    problems = []
+    for name in ("timeseries.csv", "cycles.csv"):
+        problems += same_table(label, name, os.path.join(serial, name), os.path.join(mpi, name))
+    return problems + same_datasets(label, os.path.join(serial, "result.h5"),
+                                    os.path.join(mpi, "result.h5"))
+
+
+# The files fretbem keeps beside a run's results while it replaces them (src/io/
+# replaced_results.cpp) and its lock: not results.
+ASIDE = (".fretbem-failed", ".fretbem-replaced", ".fretbem-replacing", ".fretbem-restoring",
+         ".fretbem.lock")
+
+
+def run_files(folder):
+    """{name: bytes} of a run folder's results (ASIDE left out); {} when it is missing."""
+    out = {}
+    if not os.path.isdir(folder):
+        return out
+    for name in sorted(os.listdir(folder)):
+        path = os.path.join(folder, name)
+        if name not in ASIDE and os.path.isfile(path):
+            with open(path, "rb") as f:
+                out[name] = f.read()
+    return out
+
+
+def files_intact(label, before, folder):
+    """The finished results `before` ({name: bytes}) are the files of `folder`, byte for byte."""
+    after = run_files(folder)
+    if after == before:
+        return []
+    changed = sorted(n for n in set(before) | set(after) if before.get(n) != after.get(n))
+    return [f"overwrite ({label}): {os.path.basename(folder)} differs from the finished "
+            f"results in {', '.join(changed[:4])}"]
