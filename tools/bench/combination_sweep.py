@@ -480,11 +480,20 @@ def late_iteration_cap(cwd):
 
 
 def overwrite_failed(binary, case, cwd, before, args, runs):
-    cap = late_iteration_cap(cwd)
-    run = fretbem(binary, args + ["--set", f"solver.max_iterations={cap}"], cwd)
-    runs.append(run)
-    if run.code == 0:  # every solve converged in one iteration: a replacement like any other
-        return finished_problems(case, cwd, OVER)
+    """The late cap first; a run it did not stop (the fallbacks re-solve a tangential increment
+    that did not converge in sub-steps) is a replacement like any other, whose results the
+    cap of 1 iteration, failing at step 0, must then leave in place."""
+    for cap in dict.fromkeys([late_iteration_cap(cwd), 1]):
+        run = fretbem(binary, args + ["--set", f"solver.max_iterations={cap}"], cwd)
+        runs.append(run)
+        if run.code != 0:
+            break
+        problems = finished_problems(case, cwd, OVER)
+        if problems:
+            return problems
+        before = run_files(os.path.join(cwd, OVER))
+    if run.code == 0:  # every solve converged in one iteration
+        return []
     if len(error_lines(run.err)) != 1 or run.code not in (2, 3):
         return [f"overwrite (fail): exit {run.code}, not one error line and exit 2 or 3: "
                 f"{run.err[:200]!r}"]
