@@ -370,7 +370,8 @@ def mpi_resumed(binary, case, cwd, plain, out, label, runs):
     if case.is_wear() and implicit_wear(case, plain):
         return problems + final_wear_close(f"mpi {label} resumed (dirk)", case, os.path.join(
             ref, "cycles.csv"), os.path.join(cwd, out, "cycles.csv"))
-    return problems + same_as_serial(f"{label} then --resume", ref, os.path.join(cwd, out))
+    return problems + same_as_serial(f"{label} then --resume", case, ref,
+                                     os.path.join(cwd, out))
 
 
 def mpi_interrupted(binary, case, cwd, plain, tight, runs):
@@ -384,7 +385,7 @@ def mpi_interrupted(binary, case, cwd, plain, tight, runs):
                                tight, cwd, case.mode_arg)
     runs.append(term)
     if term.code == 0:  # finished before the signal arrived
-        return same_as_serial("sigterm (finished first)", os.path.join(cwd, "serial"),
+        return same_as_serial("sigterm (finished first)", case, os.path.join(cwd, "serial"),
                               os.path.join(cwd, "mpiterm"))
     return exit_problems(term, "sigterm on 2 ranks", allowed=(143,)) or \
         mpi_resumed(binary, case, cwd, plain, "mpiterm", "sigterm", runs)
@@ -407,7 +408,7 @@ def judge_on_ranks(binary, case, cwd, plain, runs):
     if serial.code != 0:
         return []
     problems = finished_problems(case, cwd, "mpi") + same_as_serial(
-        "2 ranks", os.path.join(cwd, "serial"), os.path.join(cwd, "mpi"))
+        "2 ranks", case, os.path.join(cwd, "serial"), os.path.join(cwd, "mpi"))
     if not problems and case.mode in ("stop", "sigterm"):
         problems += mpi_interrupted(binary, case, cwd, plain, tight, runs)
     return problems
