@@ -29,6 +29,8 @@ judged:
     tools/bench/combination_sweep.py --build build --cases 300 --seed 1 --out DIR
     tools/bench/combination_sweep.py --build build --quick --out DIR   # the ctest subset
     tools/bench/combination_sweep.py --build build --seed 1 --case 17 --out DIR  # one case
+    tools/bench/combination_sweep.py --build build --seed 1 --all-mpi --out DIR  # every case
+                                                                   # on two MPI ranks too
 
 Writes DIR/cases.csv (one row per case: outcome, problems, the known defect it matches, and
 the commands, which run as printed from DIR/cases/NNNN/) and prints a summary; exit 1 when any
@@ -557,8 +559,9 @@ def judge_case(binary, case, cwd):
     return ("fail" if problems else "pass"), problems, runs
 
 
-def sweep_case(binary, seed, index, root, keep, limits):
+def sweep_case(binary, seed, index, root, keep, limits, all_mpi=False):
     case = draw_case(seed, index, limits)
+    case.mpi = case.mpi or all_mpi
     cwd = os.path.join(root, "cases", f"{index:04d}")
     t0 = time.time()
     outcome, problems, runs = judge_case(binary, case, cwd)
@@ -623,6 +626,8 @@ def main():
     ap.add_argument("--case", type=int, help="run only this case index")
     ap.add_argument("--jobs", type=int, default=2, choices=(1, 2))
     ap.add_argument("--keep", action="store_true", help="keep the outputs of passing cases")
+    ap.add_argument("--all-mpi", action="store_true",
+                    help="run every case on two MPI ranks too, not the drawn 15 %%")
     a = ap.parse_args()
     binary = os.path.abspath(os.path.join(a.build, "fretbem"))
     seed, count = (QUICK_SEED, QUICK_CASES) if a.quick else (a.seed, a.cases)
@@ -633,7 +638,8 @@ def main():
     records = Records(os.path.join(root, "cases.csv"))
     pool = concurrent.futures.ThreadPoolExecutor(a.jobs)
     limits = QUICK if a.quick else FULL
-    futures = [pool.submit(sweep_case, binary, seed, i, root, a.keep, limits) for i in indices]
+    futures = [pool.submit(sweep_case, binary, seed, i, root, a.keep, limits, a.all_mpi)
+               for i in indices]
     try:
         for f in concurrent.futures.as_completed(futures):
             records.add(f.result())
