@@ -18,12 +18,22 @@ judged:
            - load-step keys: a wear run refuses load.substeps > 1 and load.tolerance > 0,
              no other run refuses them, and a constant-load case drawn for it gives the same
              bytes run one step a row (steps_pair)
+           - drawn for 15 % of cases, on two MPI ranks: what docs/mpi-grid.md refuses on
+             ranks refused (exit 2, one line); the rest, serial and ranks both at solver
+             tolerance 1e-12, exit alike and equal to its documented bounds, also stopped
+             (`--stop-after`, SIGTERM to one rank) and resumed on the ranks (combo_reruns.py)
+           - drawn for 15 % of cases, rerun with `--overwrite` into a copy of the folder:
+             clean (the same rows, nothing left aside), stopped by SIGTERM (the finished
+             results byte for byte aside until `--resume` finishes it), or failing partway
+             (the finished results byte for byte in place)
   fail     anything else: crash (signal), hang (over 60 s of CPU), exit 1 or 3, a message
            that is not one line or shows library text, NaN/inf in an output, a broken invariant
 
     tools/bench/combination_sweep.py --build build --cases 300 --seed 1 --out DIR
     tools/bench/combination_sweep.py --build build --quick --out DIR   # the ctest subset
     tools/bench/combination_sweep.py --build build --seed 1 --case 17 --out DIR  # one case
+    tools/bench/combination_sweep.py --build build --seed 1 --all-mpi --out DIR  # every case
+                                                                   # on two MPI ranks too
 
 Writes DIR/cases.csv (one row per case: outcome, problems, the known defect it matches, and
 the commands, which run as printed from DIR/cases/NNNN/) and prints a summary; exit 1 when any
@@ -43,6 +53,8 @@ import time
 from combo_cases import FULL, QUICK, draw_case
 from combo_invariants import final_wear_close, kx_rtol, read_rows, run_invariants, \
     same_field_groups, same_rows
+from combo_reruns import MPI_TOLERANCE, files_intact, refused_on_ranks, run_files, \
+    same_as_serial
 from fretbem_outputs import LIBRARY_TEXT, nonfinite_in_csv, nonfinite_in_h5
 
 # Per fretbem command: the cases take 0.01-20 s of CPU (a coupled dirk wear run at n = 32 took
@@ -77,15 +89,36 @@ def cpu_seconds(pid):
         return 0.0
 
 
-def finish(p, argv, t0):
-    """Waits for a started run; a run past CPU_LIMIT of CPU or WALL_LIMIT of wall time is a
-    hang (CPU, not wall: on the shared machine a case gets a tenth of a core at times)."""
+def children(pid):
+    """The processes whose parent is `pid` (mpirun's ranks)."""
+    kids = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as f:
+                    if int(f.read().rsplit(")", 1)[1].split()[1]) == pid:
+                        kids.append(int(entry))
+            except (OSError, IndexError, ValueError):
+                pass
+    return kids
+
+
+def tree_cpu_seconds(pid):
+    return cpu_seconds(pid) + sum(cpu_seconds(c) for c in children(pid))
+
+
+def finish(p, argv, t0, cpu_limit=CPU_LIMIT):
+    """Waits for a started run; a run past cpu_limit of CPU (itself and its children: the
+    ranks of an mpirun) or WALL_LIMIT of wall time is a hang (CPU, not wall: on the shared
+    machine a case gets a tenth of a core at times)."""
     while True:
         try:
             out, err = p.communicate(timeout=0.5)
             return Run(argv, p.returncode, out, err, time.time() - t0)
         except subprocess.TimeoutExpired:
-            if cpu_seconds(p.pid) > CPU_LIMIT or time.time() - t0 > WALL_LIMIT:
+            if tree_cpu_seconds(p.pid) > cpu_limit or time.time() - t0 > WALL_LIMIT:
+                for rank in children(p.pid):
+                    os.kill(rank, signal.SIGKILL)
                 p.kill()
                 p.communicate()
                 return Run(argv, "timeout", "", "", time.time() - t0)
@@ -308,6 +341,220 @@ def steps_pair(binary, case, cwd, runs):
     return problems
 
 
+# --- On two MPI ranks (combo_reruns.py): what docs/mpi-grid.md's table runs on ranks, both
+# sides solved to MPI_TOLERANCE, equals the serial run to its documented bounds, also stopped
+# and resumed on the ranks; what it refuses is one error line and exit 2. Open MPI's ranks
+# poll while they wait for each other, so an MPI run's CPU (the ranks' sum) may be twice the
+# serial hang limit.
+MPIRUN = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", "2"]
+MPI_CPU_LIMIT = 2 * CPU_LIMIT
+
+
+def mpi_banner_removed(run):
+    """mpirun's own report of a rank's non-zero exit (blocks between lines of dashes) is not
+    fretbem's message: dropped, so that fretbem's lines are judged as serially."""
+    kept, inside = [], False
+    for line in run.err.splitlines(keepends=True):
+        if line.startswith("-----"):
+            inside = not inside
+        elif not inside:
+            kept.append(line)
+    run.err = "".join(kept)
+    return run
+
+
+def start_on_ranks(binary, args, cwd):
+    return start(MPIRUN[0], MPIRUN[1:] + [binary] + args, cwd)
+
+
+def on_ranks(binary, args, cwd):
+    return mpi_banner_removed(finish(*start_on_ranks(binary, args, cwd), MPI_CPU_LIMIT))
+
+
+def terminated_on_ranks(binary, args, cwd, rows):
+    """Starts a run on the ranks and sends SIGTERM to one rank once the output folder exists
+    and, for rows > 0, timeseries.csv has `rows` rows (a scheduler's signal may reach one
+    rank first: docs/mpi-grid.md says the ranks stop after the step in which one has seen it)."""
+    p, argv, t0 = start_on_ranks(binary, args, cwd)
+    series = os.path.join(cwd, args[args.index("--out") + 1], "timeseries.csv")
+    ranks = []
+    while p.poll() is None and time.time() - t0 < WALL_LIMIT and \
+            not (started(series, max(rows, 0)) and len(ranks := children(p.pid)) == 2):
+        time.sleep(0.005)  # polling the condition, not waiting for time to pass
+    if p.poll() is None and ranks:
+        os.kill(ranks[-1], signal.SIGTERM)
+    run = mpi_banner_removed(finish(p, argv, t0, MPI_CPU_LIMIT))
+    run.signal_note = f"to one rank once timeseries.csv has {max(rows, 0)} rows"
+    return run
+
+
+def mpi_refusal(binary, case, cwd, why, runs):
+    mpi = on_ranks(binary, ["run", "scenario.ini", "--out", "mpi", "--quiet"], cwd)
+    runs.append(mpi)
+    if is_refusal(mpi):
+        return []
+    return [f"mpi: {why}: exit {mpi.code} on 2 ranks, not one error line and exit 2: "
+            f"{first_line(mpi.err)}"]
+
+
+def mpi_resumed(binary, case, cwd, plain, out, label, runs):
+    """The run folder `out`, stopped on the ranks, resumed on them and compared with the
+    uninterrupted serial run (a fresh implicit wear integrator by its final row)."""
+    resume = on_ranks(binary, ["run", "--resume", out, "--quiet"], cwd)
+    runs.append(resume)
+    problems = exit_problems(resume, f"{label} on 2 ranks then --resume")
+    if problems:
+        return problems
+    problems = finished_problems(case, cwd, out)
+    ref = os.path.join(cwd, "serial")
+    if case.is_wear() and implicit_wear(case, plain):
+        return problems + final_wear_close(f"mpi {label} resumed (dirk)", case, os.path.join(
+            ref, "cycles.csv"), os.path.join(cwd, out, "cycles.csv"))
+    return problems + same_as_serial(f"{label} then --resume", case, ref,
+                                     os.path.join(cwd, out))
+
+
+def mpi_interrupted(binary, case, cwd, plain, tight, runs):
+    if case.mode == "stop":
+        stop = on_ranks(binary, ["run", "scenario.ini", "--out", "mpistop", "--quiet",
+                                 "--stop-after", str(case.mode_arg)] + tight, cwd)
+        runs.append(stop)
+        return exit_problems(stop, "stop-after on 2 ranks") or \
+            mpi_resumed(binary, case, cwd, plain, "mpistop", "stop-after", runs)
+    term = terminated_on_ranks(binary, ["run", "scenario.ini", "--out", "mpiterm", "--quiet"] +
+                               tight, cwd, case.mode_arg)
+    runs.append(term)
+    if term.code == 0:  # finished before the signal arrived
+        return same_as_serial("sigterm (finished first)", case, os.path.join(cwd, "serial"),
+                              os.path.join(cwd, "mpiterm"))
+    return exit_problems(term, "sigterm on 2 ranks", allowed=(143,)) or \
+        mpi_resumed(binary, case, cwd, plain, "mpiterm", "sigterm", runs)
+
+
+def judge_on_ranks(binary, case, cwd, plain, runs):
+    """The MPI checks of a case whose plain run exited 0 or was refused."""
+    why = "refused serially" if plain.code != 0 else refused_on_ranks(case)
+    if why:
+        return mpi_refusal(binary, case, cwd, why, runs)
+    tight = ["--set", f"solver.tolerance={MPI_TOLERANCE:g}"]
+    serial = fretbem(binary, ["run", "scenario.ini", "--out", "serial", "--quiet"] + tight, cwd)
+    mpi = on_ranks(binary, ["run", "scenario.ini", "--out", "mpi", "--quiet"] + tight, cwd)
+    runs += [serial, mpi]
+    if "timeout" in (serial.code, mpi.code):
+        return exit_problems(serial, "serial at 1e-12") + exit_problems(mpi, "2 ranks")
+    if mpi.code != serial.code or (serial.code == 2 and not is_refusal(mpi)):
+        return [f"mpi: exit {mpi.code} on 2 ranks, {serial.code} serially: "
+                f"{first_line(mpi.err)}"] + exit_problems(serial, "serial at 1e-12")
+    if serial.code != 0:
+        return []
+    problems = finished_problems(case, cwd, "mpi") + same_as_serial(
+        "2 ranks", case, os.path.join(cwd, "serial"), os.path.join(cwd, "mpi"))
+    if not problems and case.mode in ("stop", "sigterm"):
+        problems += mpi_interrupted(binary, case, cwd, plain, tight, runs)
+    return problems
+
+
+# --- With --overwrite (combo_reruns.py): the finished run's folder copied, then the same
+# command with --overwrite into the copy: "clean" must replace it with the same rows and leave
+# nothing aside; "sigterm" (once the new run has set the results aside and written a row) must
+# keep them byte for byte in .fretbem-replaced until a --resume finishes the run, which must
+# then equal the first run; "fail" (every solve capped at one iteration) must exit with one
+# error line and put them back byte for byte (src/io/replaced_results.cpp, tests/test_faults.cpp
+# FailedOverwriteKeepsTheResultsItReplaces, StoppedOverwriteKeepsTheResultsUntilItFinishes).
+OVER = "over"
+REPLACED = ".fretbem-replaced"
+
+
+def replaced_rows(case, cwd, plain, label, resumed):
+    """The overwriting run's results against the first run's (a resumed one as any resumed
+    run), nothing left aside."""
+    over = os.path.join(cwd, OVER)
+    if resumed:
+        problems = compare_resumed(case, cwd, plain, label, OVER)
+    else:
+        problems = finished_problems(case, cwd, OVER) + same_field_groups(
+            label, os.path.join(cwd, "plain", "result.h5"), os.path.join(over, "result.h5"))
+        for name in ("timeseries.csv", "cycles.csv"):
+            problems += same_rows(label, name, os.path.join(cwd, "plain", name),
+                                  os.path.join(over, name), kx_rtol(case))
+    left = [a for a in (REPLACED, ".fretbem-failed") if os.path.exists(os.path.join(over, a))]
+    return problems + ([f"overwrite ({label}): {', '.join(left)} left after it finished"]
+                       if left else [])
+
+
+def overwrite_sigterm(binary, case, cwd, plain, before, args, runs):
+    series = os.path.join(cwd, OVER, "timeseries.csv")
+    aside = os.path.join(cwd, OVER, REPLACED)
+    p, argv, t0 = start(binary, args, cwd)
+    while p.poll() is None and time.time() - t0 < WALL_LIMIT and \
+            not (os.path.isdir(aside) and rows_written(series) >= 1):
+        time.sleep(0.005)  # polling the condition, not waiting for time to pass
+    if p.poll() is None:
+        p.send_signal(signal.SIGTERM)
+    run = finish(p, argv, t0)
+    run.signal_note = "once the set-aside folder exists and timeseries.csv has 1 row"
+    runs.append(run)
+    if run.code == 0:
+        return replaced_rows(case, cwd, plain, "overwrite then sigterm (finished first)", False)
+    problems = exit_problems(run, "overwrite then sigterm", allowed=(143,))
+    problems += files_intact("sigterm", before, aside)
+    if problems:
+        return problems
+    resume = fretbem(binary, ["run", "--resume", OVER, "--quiet"], cwd)
+    runs.append(resume)
+    return exit_problems(resume, "overwrite then sigterm then --resume") or \
+        replaced_rows(case, cwd, plain, "overwrite then sigterm then --resume", True)
+
+
+def late_iteration_cap(cwd):
+    """A solver.max_iterations that the first run's steps before a step k > 0 met and step k
+    did not (the last such k: the solves then fail partway, after rows and checkpoints), else
+    1 (step 0 fails)."""
+    header, rows = read_rows(os.path.join(cwd, "plain", "timeseries.csv"))
+    names = [c for c in ("normal_iterations", "tangential_iterations") if c in header]
+    most = [max(int(float(r[header.index(c)] or 0)) for c in names) for r in rows]
+    cap = 1
+    for k in range(1, len(most)):
+        if most[k] > max(most[:k]) > 0:
+            cap = max(most[:k])
+    return cap
+
+
+def overwrite_failed(binary, case, cwd, before, args, runs):
+    """The late cap first; a run it did not stop (the fallbacks re-solve a tangential increment
+    that did not converge in sub-steps) is a replacement like any other, whose results the
+    cap of 1 iteration, failing at step 0, must then leave in place."""
+    for cap in dict.fromkeys([late_iteration_cap(cwd), 1]):
+        run = fretbem(binary, args + ["--set", f"solver.max_iterations={cap}"], cwd)
+        runs.append(run)
+        if run.code != 0:
+            break
+        problems = finished_problems(case, cwd, OVER)
+        if problems:
+            return problems
+        before = run_files(os.path.join(cwd, OVER))
+    if run.code == 0:  # every solve converged in one iteration
+        return []
+    if len(error_lines(run.err)) != 1 or run.code not in (2, 3):
+        return [f"overwrite (fail): exit {run.code}, not one error line and exit 2 or 3: "
+                f"{run.err[:200]!r}"]
+    return files_intact("fail", before, os.path.join(cwd, OVER))
+
+
+def judge_overwrite(binary, case, cwd, plain, runs):
+    """The --overwrite rerun of a case whose plain run exited 0, into a copy of its folder."""
+    shutil.copytree(os.path.join(cwd, "plain"), os.path.join(cwd, OVER))
+    before = run_files(os.path.join(cwd, OVER))
+    args = ["run", "scenario.ini", "--out", OVER, "--quiet", "--overwrite"]
+    if case.overwrite == "sigterm":
+        return overwrite_sigterm(binary, case, cwd, plain, before, args, runs)
+    if case.overwrite == "fail":
+        return overwrite_failed(binary, case, cwd, before, args, runs)
+    run = fretbem(binary, args, cwd)
+    runs.append(run)
+    return exit_problems(run, "overwrite") or replaced_rows(case, cwd, plain, "overwrite", False)
+
+
 def known_defect(case, problems):
     """The known defects the problems match, and NEW for any problem that matches none."""
     labels = sorted({label for p in problems for label, match in KNOWN_DEFECTS if match(case, p)})
@@ -333,7 +580,8 @@ def judge_case(binary, case, cwd):
     plain = runs[0]
     problems = step_key_problems(case, plain)
     if is_refusal(plain) and not problems:
-        return "refused", [first_line(plain.err)], runs
+        problems = judge_on_ranks(binary, case, cwd, plain, runs) if case.mpi else []
+        return ("fail" if problems else "refused"), problems or [first_line(plain.err)], runs
     problems += exit_problems(plain, "run") if not is_refusal(plain) else []
     if not problems:
         problems = finished_problems(case, cwd, "plain") + steps_pair(binary, case, cwd, runs)
@@ -343,16 +591,22 @@ def judge_case(binary, case, cwd):
             problems += stop_and_resume(binary, case, cwd, plain, runs)
         elif case.mode == "sigterm":
             problems += terminate_and_resume(binary, case, cwd, plain, runs)
+        if case.mpi:
+            problems += judge_on_ranks(binary, case, cwd, plain, runs)
+        if case.overwrite:
+            problems += judge_overwrite(binary, case, cwd, plain, runs)
     return ("fail" if problems else "pass"), problems, runs
 
 
-def sweep_case(binary, seed, index, root, keep, limits):
+def sweep_case(binary, seed, index, root, keep, limits, all_mpi=False):
     case = draw_case(seed, index, limits)
+    case.mpi = case.mpi or all_mpi
     cwd = os.path.join(root, "cases", f"{index:04d}")
     t0 = time.time()
     outcome, problems, runs = judge_case(binary, case, cwd)
     if outcome != "fail" and not keep:
-        for out in ("plain", "stop", "term", "cycle", "whole"):
+        for out in ("plain", "stop", "term", "cycle", "whole", "serial", "mpi", "mpistop",
+                    "mpiterm", OVER):
             shutil.rmtree(os.path.join(cwd, out), ignore_errors=True)
     failed = outcome == "fail"
     return {"case": index, "mode": case.mode, "mode_arg": case.mode_arg, "outcome": outcome,
@@ -411,6 +665,8 @@ def main():
     ap.add_argument("--case", type=int, help="run only this case index")
     ap.add_argument("--jobs", type=int, default=2, choices=(1, 2))
     ap.add_argument("--keep", action="store_true", help="keep the outputs of passing cases")
+    ap.add_argument("--all-mpi", action="store_true",
+                    help="run every case on two MPI ranks too, not the drawn 15 %%")
     a = ap.parse_args()
     binary = os.path.abspath(os.path.join(a.build, "fretbem"))
     seed, count = (QUICK_SEED, QUICK_CASES) if a.quick else (a.seed, a.cases)
@@ -421,7 +677,8 @@ def main():
     records = Records(os.path.join(root, "cases.csv"))
     pool = concurrent.futures.ThreadPoolExecutor(a.jobs)
     limits = QUICK if a.quick else FULL
-    futures = [pool.submit(sweep_case, binary, seed, i, root, a.keep, limits) for i in indices]
+    futures = [pool.submit(sweep_case, binary, seed, i, root, a.keep, limits, a.all_mpi)
+               for i in indices]
     try:
         for f in concurrent.futures.as_completed(futures):
             records.add(f.result())

@@ -24,27 +24,31 @@ class Limits:
     list), wear cycle counts (`cycle` mode simulates every one), the largest grid for the
     `coupled` alternation (about ten times the CPU of `cerruti`, README), the most FFT threads
     (two threads at n <= 32 took 40-60 times the CPU of one on the loaded machine,
-    docs/reliability.md, "Combination sweep")."""
+    docs/reliability.md, "Combination sweep"), whether cases are also run on two MPI ranks."""
 
     def __init__(self, grids, small_grids, wear_cycles, cycle_mode_cycles, coupled_max_n,
-                 max_threads):
+                 max_threads, mpi=True):
         self.grids, self.small_grids = grids, small_grids
         self.wear_cycles, self.cycle_mode_cycles = wear_cycles, cycle_mode_cycles
         self.coupled_max_n, self.max_threads = coupled_max_n, max_threads
+        self.mpi = mpi
 
 
 FULL = Limits([16, 24, 32, 48], [16, 24, 32], [3, 10, 40, 200, 1000, 20000], [3, 10, 40, 200],
               48, 2)
-# The ctest subset: under two minutes on the shared two-core machine at load ~16.
-QUICK = Limits([16, 24], [16], [3, 10, 40], [3, 10, 40], 16, 1)
+# The ctest subset: under two minutes on the shared two-core machine at load ~16; without the
+# MPI reruns, which took it from 6.4 s to 29.8 s of wall time (load average 2.4 and 5).
+QUICK = Limits([16, 24], [16], [3, 10, 40], [3, 10, 40], 16, 1, mpi=False)
 
 
 class Case:
-    """One combination: INI keys, input files (name -> bytes) and the interruption to try."""
+    """One combination: INI keys, input files (name -> bytes), the interruption to try, and
+    the reruns (draw_reruns): on two MPI ranks, with --overwrite."""
 
     def __init__(self, index, keys, files, mode, mode_arg, notes):
         self.index, self.keys, self.files = index, keys, files
         self.mode, self.mode_arg, self.notes = mode, mode_arg, notes
+        self.mpi, self.overwrite = False, None
 
     def ini(self):
         sections = {}
@@ -407,6 +411,19 @@ def draw_steps(seed, index, case, n):
     case.notes.append("steps")
     if case.subdivides() and not case.varying_normal() and not case.is_wear() and r.random() < 0.5:
         case.notes.append("steps_pair")
+# Overwrite reruns: a clean replacement, one stopped by SIGTERM once it has written rows, one
+# that fails (every solve capped at one iteration).
+OVERWRITE_KINDS = ["clean", "sigterm", "fail"]
+
+
+def draw_reruns(seed, index, case, limits):
+    """Whether the case is also run on two MPI ranks and rerun with --overwrite (which kind),
+    each for about 15 % of cases, from a stream of its own: the draws above, and so the cases
+    of earlier seeds, stay as they were."""
+    r = random.Random(f"combination-sweep-reruns:{seed}:{index}")
+    case.mpi = limits.mpi and r.random() < 0.15
+    if r.random() < 0.15:
+        case.overwrite = r.choice(OVERWRITE_KINDS)
 
 
 def draw_case(seed, index, limits=FULL):
@@ -440,4 +457,5 @@ def draw_case(seed, index, limits=FULL):
     mode, arg = draw_mode(r, wear)
     case = Case(index, k, files, mode, arg, notes)
     draw_steps(seed, index, case, max(nx, ny))
+    draw_reruns(seed, index, case, limits)
     return case

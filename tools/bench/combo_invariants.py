@@ -21,12 +21,16 @@ pass. Tolerances and why:
   step_error).
 - resumed = uninterrupted: byte-identical CSV cells except `convolutions` (a work counter) and
   `kx` within 1e-7 relative (docs/reliability.md, "the uninterrupted run's rows"); with
-  solver.fft_precision = float within 2 (0.1 tol + 2^-23), tol = max(solver.tolerance, 1e-6):
-  each of the two stiffness solves (different warm starts) stops within kShare = 0.1 of its
-  tolerance of the converged k_x (src/contact/stiffness.cpp), whose tolerance float FFTs raise
-  to at least kFloatFftMinTolerance = 1e-6, and the converged k_x itself carries the float
-  operator's round-off, one single-precision epsilon 2^-23 = 1.2e-7 relative (measured 1e-7
-  rms, docs/performance.md); the two differ by at most twice the sum, 4.4e-7 at 1e-6.
+  solver.fft_precision = float within 2 (tol + 2^-23), tol = max(solver.tolerance, 1e-6):
+  each of the two stiffness solves (different warm starts) stops within its tolerance of the
+  converged k_x (the contract Stiffness.EnergyStopKeepsKxWithinTheTolerance holds; the stop
+  aims at kShare = 0.1 of it, src/contact/stiffness.cpp, but float round-off in the energy's
+  increments, ~2^-23 of it, is within a decade of that aim and the extrapolated remainder can
+  miss it: 0.23 tol measured against a double solve to 1e-12, seed 51 case 33 stopped after
+  3 steps at tol 1e-5), whose tolerance float FFTs raise to at least kFloatFftMinTolerance =
+  1e-6, and the converged k_x itself carries the float operator's round-off, one
+  single-precision epsilon 2^-23 = 1.2e-7 relative (measured 1e-7 rms, docs/performance.md);
+  the two differ by at most twice the sum, 2.2e-6 at 1e-6.
 """
 import csv
 import math
@@ -151,13 +155,13 @@ def run_invariants(case, out):
 
 def kx_rtol(case):
     """Relative difference allowed between a resumed and an uninterrupted run's kx (docstring
-    above: max(1e-7, 2 kShare tol) in double, or float FFTs' single-precision bound)."""
+    above: max(1e-7, 2 kShare tol) in double, or float FFTs' bound, 2 (tol + 2^-23))."""
     if case.get("solver.fft_precision") != "float":
         tol = float(case.get("solver.tolerance", 1e-8))
         return max(KX_RTOL, 2 * KX_STOP_SHARE * tol)
     tol = max(float(case.get("solver.tolerance", FLOAT_FFT_MIN_TOLERANCE)),
               FLOAT_FFT_MIN_TOLERANCE)
-    return 2 * (KX_STOP_SHARE * tol + FLOAT_EPSILON)
+    return 2 * (tol + FLOAT_EPSILON)
 
 
 def cells_equal(name, a, b, rtol=KX_RTOL):
