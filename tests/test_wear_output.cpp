@@ -345,6 +345,45 @@ TEST(WearResume, ErkResumeKeepsTheAcceptedFlagsOfAStateThatHasItsRow) {
   fs::remove(table);
 }
 
+// A stretch of cycles runs on through the snapshots it reaches (rough surface, F_z +-30 %,
+// Cerruti, dirk with Krylov Newton, n = 16, N = 100: one TR-BDF2 step to N = 1, then cycles
+// one by one in pieces ending at N = 2, 5, 10, ...). The checkpoint holds the stretch's rest
+// and the failed step's cost (`wear_stretch_left`), so a run stopped after the step, or after
+// the piece to N = 2 or 5, takes the uninterrupted run's pieces: every cycles.csv cell and the
+// final worn depth equal bit for bit (each piece starts from the steady cycle of the worn
+// depth, the same in both runs).
+TEST(WearResume, StretchAcrossSnapshotsResumesAsUninterrupted) {
+  const fs::path table = fresh_dir("stretch_table.csv");
+  std::ofstream(table)
+      << "time,Fz,Fx\n0,2.5088,0\n0.0833333,3.1606054,0.4740908\n0.1666667,3.1606054,0.8211494\n"
+         "0.25,2.5088,0.75264\n0.3333333,1.8569946,0.4824614\n0.4166667,1.8569946,0.2785492\n"
+         "0.5,2.5088,0\n0.5833333,3.1606054,-0.4740908\n0.6666667,3.1606054,-0.8211494\n"
+         "0.75,2.5088,-0.75264\n0.8333333,1.8569946,-0.4824614\n"
+         "0.9166667,1.8569946,-0.2785492\n1,2.5088,0\n";
+  const fs::path ini = fresh_dir("stretch.ini");
+  std::ofstream(ini) << "[material]\nE = 5e9\nnu = 0.25\nmu = 0.5\n[grid]\nn = 16\n"
+                        "length = 2.8e-4\n[surface]\ntype = rough\nmethod = midpoint\n"
+                        "hurst = 0.3\nseed = 224\nrms_slope = 0.02\n[load]\npath = table\n"
+                        "control = force\ntable = "
+                     << table.string()
+                     << "\n[solver]\ntolerance = 1e-8\ncoupling = cerruti\n[wear]\n"
+                        "law = archard\ncoefficient = 8.0357e-11\nrtol = 1e-3\n"
+                        "newton = krylov\nintegrator = dirk\ncycles = 100\n";
+  const fs::path full = fresh_dir("stretch_full");
+  ASSERT_EQ(sh("run " + ini.string() + " --quiet --out " + full.string()), 0);
+  const Csv a = read_csv(full / "cycles.csv");
+  const auto Wf = h5_field(full / "result.h5", "/wear/final_worn_depth");
+  for_each_resumed_stop(ini, "stretch_part", {1, 2, 3}, [&](const fs::path& part, int stop) {
+    const Csv b = read_csv(part / "cycles.csv");
+    EXPECT_EQ(a.rows, b.rows) << "stopped after " << stop;
+    EXPECT_EQ(Wf, h5_field(part / "result.h5", "/wear/final_worn_depth"))
+        << "stopped after " << stop;
+  });
+  fs::remove_all(full);
+  fs::remove(ini);
+  fs::remove(table);
+}
+
 // The explicit integrator's error test weighs W against rtol |W| + atol, atol = rtol times the
 // unworn indentation, which a probe loading solves to solver.tolerance. A resumed run reads
 // atol from the checkpoint: probing again from the last evaluation's pressure lands within that

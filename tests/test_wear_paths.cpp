@@ -284,6 +284,49 @@ TEST(WearPaths, VaryingNormalLoadOdeMatchesCycleMode) {
   EXPECT_NEAR(d_ode / d_cycle, 1.0, 1e-3);
 }
 
+// A rough surface (midpoint, H = 0.3, n = 16) under F_z +-30 % (a 12-row table), Cerruti
+// coupling, Archard, dirk with Krylov Newton: the steady cycle settles over 54/13 = 4.15 cycles
+// and a TR-BDF2 step costs 6-8 wear-map evaluations, so no step covers twice its cost inside
+// the first snapshot intervals (N = 1, 2, 5, 10, 20, 50). After a step that did not pay, the
+// cost guard simulates cycle by cycle every interval shorter than twice its cost; a stretch
+// after an unpaid step runs on through the snapshots it reaches, starts at no less than
+// kMinStretch = 8 cycles and the failed step's cost, and at least doubles while no step pays,
+// so after the first step k more follow only once 8 (2^k - 1) cycles fit in N:
+// k <= log2(N / 8 + 1). Every step but the last costs at most the cycles one by one after it,
+// so the run simulates at most about twice the N + 1 cycles of cycle mode. Measured (`fretbem
+// run` of this scenario): 421.7 simulated cycles in 9 steps when each snapshot ended the
+// stretch and every interval retried the integrator, 155.3 in 1 step now. The final max worn
+// depth is cycle mode's within one cycle's wear of it, 1/N: the ODE's map is the periodic
+// cycle, where cycle mode's first period is the virgin loading (measured +3.1e-3 and +4.2e-3).
+TEST(WearPaths, CostlyStepsAcrossSnapshotsCostAtMostTwiceEveryCycle) {
+  const fs::path f = table_file(
+      "fz30",
+      "time,Fz,Fx\n0,2.5088,0\n0.0833333,3.1606054,0.4740908\n0.1666667,3.1606054,0.8211494\n"
+      "0.25,2.5088,0.75264\n0.3333333,1.8569946,0.4824614\n0.4166667,1.8569946,0.2785492\n"
+      "0.5,2.5088,0\n0.5833333,3.1606054,-0.4740908\n0.6666667,3.1606054,-0.8211494\n"
+      "0.75,2.5088,-0.75264\n0.8333333,1.8569946,-0.4824614\n0.9166667,1.8569946,-0.2785492\n"
+      "1,2.5088,0\n");
+  const double N = 100;
+  auto rough = [&](const char* integrator) {
+    return "[material]\nE = 5e9\nnu = 0.25\nmu = 0.5\n[grid]\nn = 16\nlength = 2.8e-4\n"
+           "[surface]\ntype = rough\nmethod = midpoint\nhurst = 0.3\nseed = 224\n"
+           "rms_slope = 0.02\n[load]\npath = table\ncontrol = force\ntable = " +
+           f.string() +
+           "\n[solver]\ntolerance = 1e-8\ncoupling = cerruti\n[wear]\nlaw = archard\n"
+           "coefficient = 8.0357e-11\nrtol = 1e-3\nnewton = krylov\nindenter_share = 0.5\n"
+           "cycles = 100\nintegrator = " +
+           std::string(integrator) + "\n";
+  };
+  const WearReport ode = integrate(rough("dirk")), cycle = integrate(rough("cycle"));
+  std::printf("[ costly steps ] %g simulated cycles in %ld steps, %ld stretches for N = %g\n",
+              ode.simulated_cycles, ode.steps, ode.stretches, N);
+  EXPECT_EQ(ode.N, N);
+  EXPECT_LE(double(ode.steps), 1.0 + std::log2(N / 8.0 + 1.0));
+  EXPECT_LE(ode.simulated_cycles, 2.0 * (N + 1.0));
+  EXPECT_NEAR(ode.worn.maxCoeff() / cycle.worn.maxCoeff(), 1.0, 1.0 / N);
+  fs::remove(f);
+}
+
 // Gross slip with a short stability cap (D = 10 um, k = 1e-13: cap ~2.8 cycles at n = 64):
 // an explicit step of two wear-map evaluations never covers twice its cost, so arkode runs
 // the implicit method (61.2 simulated cycles); erk's cost guard stretches, broken by a wasted

@@ -191,6 +191,7 @@ void write_wear(hid_t f, const WearCheckpoint& w) {
   write_field(f, "wear_worn", w.worn);
   if (w.state_has_row) write_vector(f, "wear_state_row", {1.0});
   write_vector(f, "wear_stretch", {w.stretch, w.stretched ? 1.0 : 0.0});
+  write_vector(f, "wear_stretch_left", {w.stretch_left, w.step_cost, w.step_unpaid ? 1.0 : 0.0});
   if (w.atol > 0.0) write_vector(f, "wear_atol", {w.atol});
   if (w.warm.pressure.size() > 0) write_field(f, "wear_warm_pressure", w.warm.pressure);
   if (w.warm.corrective.size() > 0) write_field(f, "wear_warm_corrective", w.warm.corrective);
@@ -405,6 +406,10 @@ std::optional<WearCheckpoint> read_wear(const Reader& r) {
   if (r.exists("wear_stretch")) {
     const auto s = r.vector("wear_stretch", 2);
     w.stretch = s[0], w.stretched = s[1] != 0.0;
+  }
+  if (r.exists("wear_stretch_left")) {
+    const auto s = r.vector("wear_stretch_left", 3);
+    w.stretch_left = s[0], w.step_cost = s[1], w.step_unpaid = s[2] != 0.0;
   }
   if (r.exists("wear_atol")) w.atol = r.vector("wear_atol", 1)[0];
   w.worn = r.field("wear_worn");

@@ -37,12 +37,15 @@ void flush_step(WearReport& rep, std::size_t first, Observer& log, double t0, st
   }
 }
 
-// N += L cycles one by one from (t, W): the steady cycle of W, then the physical history
-// (tractions carried, each cycle's wear applied before the next). Every row is a point of the
-// solution (accepted).
+// N += L - 1 + share cycles one by one from (t, W): the steady cycle of W, then the physical
+// history (tractions carried, each cycle's wear applied before the next); the last cycle's
+// wear is applied times share (0, 1], an Euler step of less than the cycle arithmetic's one
+// cycle, so that a stretch that started between whole cycles ends on a snapshot. Every row
+// is a point of the solution (accepted).
 double cycle_stretch(WearCycles& cyc, WearReport& rep, Observer& log, double t, Field& W, long L,
-                     std::pair<double, std::uint64_t>& last, const Communicator& comm) {
-  for (long k = 0; k < L; ++k, t += 1.0) {
+                     double share, std::pair<double, std::uint64_t>& last,
+                     const Communicator& comm) {
+  for (long k = 0; k < L; ++k) {
     WearCycle c = k == 0 ? cyc.steady(t, W) : cyc.continued(t);
     c.worn_hash = fingerprint(W, comm);
     // The state the stretch starts from may have its accepted row already (the integrator
@@ -50,12 +53,14 @@ double cycle_stretch(WearCycles& cyc, WearReport& rep, Observer& log, double t, 
     const std::pair<double, std::uint64_t> key{t, c.worn_hash};
     c.accepted = key != last;
     last = key;
-    W += c.rate;
-    if (k + 1 < L) cyc.apply(c.rate);
+    const bool final = k + 1 == L;
+    W += final ? share * c.rate : c.rate;
+    t += final ? share : 1.0;
+    if (!final) cyc.apply(c.rate);
     keep(rep, std::move(c), log);
   }
   ++rep.stretches;
-  rep.stretch_cycles += double(L);
+  rep.stretch_cycles += double(L - 1) + share;
   return t;
 }
 
@@ -83,7 +88,8 @@ class OdeRun {
   bool choose_implicit(WearIntegrator kind) const;
   bool advance(std::size_t i, long max_steps);
   StepStart evolve_step(std::size_t i);
-  void guard_cost(std::size_t i, const StepStart& s);
+  void guard_cost(const StepStart& s, std::size_t i);
+  void stretch_to(std::size_t i);
   double restart(std::size_t i, double h_next);
   void write_checkpoint(std::size_t i, bool snap, double h_next, long steps, long fails);
   WearReport finish();
@@ -108,7 +114,11 @@ class OdeRun {
   ArkodeStepper it_;
   long taken_ = 0;
   double stretch_ = kMinStretch;
-  bool stretched_ = false;  // the previous wear step was a stretch of cycles
+  bool stretched_ = false;     // the previous wear step was a stretch of cycles
+  double stretch_left_ = 0.0;  // cycles of the current stretch still to simulate
+  double step_cost_ = 0.0;     // simulated cycles of the last integrator step weighed
+  bool unpaid_ = false;        // that step was not kStepWorth times cheaper than its cycles
+  double h_next_ = 0.0;        // the integrator's next step
 };
 
 OdeRun::OdeRun(Model& model, WearCycles& cyc, Observer& log, WearIntegrator kind,
@@ -161,6 +171,8 @@ void OdeRun::resume_from(const WearCheckpoint& at) {
   steps0_ = at.steps, rejected0_ = at.rejected;
   cyc_.resume(at.counters, at.warm);
   if (at.stretch > 0.0) stretch_ = at.stretch, stretched_ = at.stretched;
+  stretch_left_ = at.stretch_left, step_cost_ = at.step_cost, unpaid_ = at.step_unpaid;
+  h_next_ = at.h_next;
 }
 
 // A first steady cycle on the unworn surface: the N = 0 row, snapshot and stability cap.
@@ -195,22 +207,34 @@ WearReport OdeRun::run(long max_steps) {
 }
 
 // One wear step towards snapshot i: an integrator step, then cycles one by one where it was
-// not profitable. False when the run is at its end or stopped.
+// not profitable; or, while a stretch runs on past a snapshot, its cycles to the next one.
+// False when the run is at its end or stopped.
 bool OdeRun::advance(std::size_t i, long max_steps) {
-  const StepStart s = evolve_step(i);
-  const bool final_state = t_ >= N_end_;
-  flush_step(rep_, s.first_row, log_, s.t, s.worn_hash, t_, worn_fingerprint(), final_state, last_);
-  if (final_state) return false;
-  // The explicit step obeys the new cap from its first attempt on.
-  double h_next = implicit_ ? it_.next_step() : std::min(it_.next_step(), cap_);
-  guard_cost(i, s);
+  // After a step that did not pay, a step that could cover no more than kStepWorth times its
+  // cost before the snapshot (where the integrator stops) cannot pay either: the cycles up to
+  // the snapshot one by one instead.
+  if (unpaid_ && stretch_left_ <= 0.0 && snaps_[i] - t_ < kStepWorth * step_cost_) {
+    stretch_left_ = std::ceil(snaps_[i] - t_);
+    stretched_ = true;
+  }
+  if (stretch_left_ <= 0.0) {
+    const StepStart s = evolve_step(i);
+    const bool final_state = t_ >= N_end_;
+    flush_step(rep_, s.first_row, log_, s.t, s.worn_hash, t_, worn_fingerprint(), final_state,
+               last_);
+    if (final_state) return false;
+    // The explicit step obeys the new cap from its first attempt on.
+    h_next_ = implicit_ ? it_.next_step() : std::min(it_.next_step(), cap_);
+    guard_cost(s, i);
+  }
+  if (stretch_left_ > 0.0) stretch_to(i);
   if (t_ >= N_end_) return false;
   const bool snap = t_ >= snaps_[i];
   if (snap) log_.snapshot(t_, worn(), cyc_.pressure_on(worn()), false);
   long steps = 0, fails = 0;  // counted before a restart
   it_.stats(steps, fails);
-  h_next = restart(i, h_next);
-  write_checkpoint(i, snap, h_next, steps, fails);
+  h_next_ = restart(i, h_next_);
+  write_checkpoint(i, snap, h_next_, steps, fails);
   if ((max_steps >= 0 && ++taken_ >= max_steps) || log_.stop_requested()) {
     rep_.stopped = true;
     return false;
@@ -231,24 +255,51 @@ StepStart OdeRun::evolve_step(std::size_t i) {
   return s;
 }
 
-// Cost guard (wear_rows.hpp): simulate cycles while the integrator is not cheaper.
-void OdeRun::guard_cost(std::size_t i, const StepStart& s) {
-  const bool unprofitable = kStepWorth * (cyc_.simulated() - s.simulated) > t_ - s.t;
-  if (!unprofitable) {
+// Cost guard (wear_rows.hpp): after an integrator step that was not cheaper than its cycles,
+// a stretch of cycles, doubled when the wear step before was a stretch too. A step that ended
+// on snapshot i was cut short by the stop time and says nothing of a longer one: no stretch
+// (advance simulates the next interval cycle by cycle when it is too short to pay for it).
+void OdeRun::guard_cost(const StepStart& s, std::size_t i) {
+  const double cost = cyc_.simulated() - s.simulated;
+  step_cost_ = cost;
+  unpaid_ = kStepWorth * cost > t_ - s.t;
+  const bool cut = t_ >= snaps_[i] - 1e-9 * std::max(1.0, snaps_[i]);
+  if (!unpaid_ || cut) {
     stretched_ = false;
     return;
   }
-  stretch_ = stretched_ ? 2.0 * stretch_ : std::max(kMinStretch, cyc_.simulated() - s.simulated);
-  // Whole cycles to the snapshot; t may sit a rounding error below a whole number.
+  // At least the failed step's cost: every step but the last costs at most the cycles the
+  // stretch after it simulates.
+  stretch_ = std::max(stretched_ ? 2.0 * stretch_ : kMinStretch, cost);
+  stretch_left_ = std::floor(stretch_);
+  stretched_ = true;
+}
+
+// The current stretch's cycles up to snapshot i. A stretch that reaches the snapshot ends
+// there (its last cycle shortened when it started between whole cycles) and runs on in the
+// next interval: a snapshot is an observation, and an integrator step cut short by it cannot
+// be cheaper than its cycles. For the same reason a stretch that would end short of the
+// snapshot by less than kStepWorth times the failed step's cost runs on to it (the integrator
+// stops there, so its step could cover no more than that rest). Each piece starts from the
+// steady cycle of W, as the resumed run does from a checkpoint at the snapshot.
+void OdeRun::stretch_to(std::size_t i) {
+  // t may sit a rounding error below a whole number.
   const double eps = 1e-9 * std::max(1.0, snaps_[i]);
-  const long L = long(std::min(stretch_, std::floor(snaps_[i] - t_ + eps)));
-  if (L >= 1) {
-    Field W = worn();
-    t_ = cycle_stretch(cyc_, rep_, log_, t_, W, L, last_, model_.half_space->communicator());
-    if (std::abs(t_ - snaps_[i]) <= eps) t_ = snaps_[i];
-    worn() = W;
-  }
-  stretched_ = L >= 1;
+  const double to_snap = snaps_[i] - t_;
+  if (to_snap <= eps) return;  // the integrator step ended on the snapshot
+  // Also a stretch ending less than a cycle before the snapshot: a step over the rest costs
+  // at least one evaluation, more than the cycle does.
+  const double rest = to_snap - stretch_left_;
+  const bool reaches = rest < std::max(1.0, kStepWorth * step_cost_) + eps;
+  const long L = reaches ? long(std::ceil(to_snap - eps)) : long(stretch_left_);
+  const double share = reaches ? to_snap - double(L - 1) : 1.0;
+  Field W = worn();
+  t_ = cycle_stretch(cyc_, rep_, log_, t_, W, L, std::clamp(share, 0.0, 1.0), last_,
+                     model_.half_space->communicator());
+  worn() = W;
+  if (reaches) t_ = snaps_[i];
+  stretch_left_ = reaches ? std::max(0.0, stretch_left_ - to_snap) : 0.0;
+  if (stretch_left_ < 1.0) stretch_left_ = 0.0;  // whole cycles only
 }
 
 // SUNDIALS 6.4 ERKStep treats a table with c_s = 1 as first-same-as-last and reuses the last
@@ -258,9 +309,15 @@ void OdeRun::guard_cost(std::size_t i, const StepStart& s) {
 // 6.4.1). A restart at the accepted (t, y) makes ARKODE evaluate f there — the correct first
 // stage and the accepted row of the step — and is exactly what a resumed run does, so
 // resuming is the uninterrupted run. After a stretch of cycles both integrators restart at its
-// end. Returns the step to attempt next.
+// end, with a step long enough to pay for the failed step's cost, in whole cycles (a shorter
+// one cannot be cheaper than its cycles; the explicit one within its cap). Returns the step to
+// attempt next.
 double OdeRun::restart(std::size_t i, double h_next) {
   if (implicit_ && !stretched_) return h_next;
+  if (stretched_ && stretch_left_ <= 0.0) {
+    h_next = std::max(h_next, std::ceil(kStepWorth * step_cost_));
+    if (!implicit_) h_next = std::min(h_next, cap_);
+  }
   h_next = std::min(h_next, N_end_ - t_);
   check(it_.reset(t_, y_, h_next), "restart");
   check(it_.stop(snaps_[i]), "stop time");
@@ -279,7 +336,8 @@ void OdeRun::write_checkpoint(std::size_t i, bool snap, double h_next, long step
   at.implicit = implicit_;
   at.warm = cyc_.warm_start();
   at.state_has_row = last_ == std::pair{t_, worn_fingerprint()};
-  at.stretch = stretch_, at.stretched = stretched_;
+  at.stretch = stretch_, at.stretched = stretched_, at.stretch_left = stretch_left_;
+  at.step_cost = step_cost_, at.step_unpaid = unpaid_;
   at.atol = d_.atol;
   log_.step_done(at);
 }

@@ -98,6 +98,13 @@ struct WearCheckpoint {
   /// (a stretch doubles while the integrator stays unprofitable).
   double stretch = 0.0;
   bool stretched = false;
+  /// ARKODE: cycles of the current stretch still to simulate (a stretch runs on through the
+  /// snapshots it reaches; 0: the integrator steps next).
+  double stretch_left = 0.0;
+  /// ARKODE: simulated cycles of the last integrator step the cost guard weighed (a stretch
+  /// runs on to the snapshot when a step over the rest of the interval could not pay them).
+  double step_cost = 0.0;
+  bool step_unpaid = false;  ///< ARKODE: that step was not kStepWorth times cheaper
   /// ARKODE: the absolute tolerance on W in use (m; wear_detail::absolute_tolerance). Read,
   /// not recomputed, on resume: its indentation probe starts from the last evaluation's
   /// pressure there and lands within solver.tolerance of the first run's, which moves every
