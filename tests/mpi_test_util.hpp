@@ -15,6 +15,7 @@
 #include <string>
 
 #include "fretbem/parallel/communicator.hpp"
+#include "support/mpi_launch.hpp"
 #include "support/temp_dir.hpp"
 
 namespace mpi_test {
@@ -26,18 +27,13 @@ inline bool on_ranks() {
   return fretbem::launched_on_several_ranks();
 }
 
-/// Runs the current test under mpirun -n `ranks` and expects exit 0, printing the ranks'
-/// output otherwise. Open MPI refuses root without --allow-run-as-root, and a machine with
-/// fewer free slots than ranks needs --oversubscribe (docs/cluster.md). `timeout` ends a rank
-/// blocked in a collective that another rank never entered (a failed test): a failure, not a
-/// hang of the suite.
+/// Runs the current test under mpirun -n `ranks` (fretbem_test::mpiexec_command, at most 300 s)
+/// and expects exit 0, printing the ranks' output otherwise.
 inline void run_on_ranks(int ranks) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   const std::string name = std::string(info->test_suite_name()) + "." + info->name();
   const fs::path log = fretbem_test::process_temp_dir() / ("mpi_" + std::string(info->name()));
-  const std::string cmd = "ASAN_OPTIONS=\"${ASAN_OPTIONS:-}:detect_leaks=0\" timeout 300 " +
-                          std::string(FRETBEM_MPIEXEC) +
-                          " --allow-run-as-root --oversubscribe -n " + std::to_string(ranks) + " " +
+  const std::string cmd = fretbem_test::mpiexec_command(ranks, 300) +
                           fs::read_symlink("/proc/self/exe").string() + " --gtest_filter=" + name +
                           " > " + log.string() + " 2>&1";
   const int s = std::system(cmd.c_str());

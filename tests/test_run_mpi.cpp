@@ -18,11 +18,13 @@
 #include <algorithm>
 #include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 
 #include "support/child_process.hpp"
 #include "support/csv_text.hpp"
+#include "support/mpi_launch.hpp"
 #include "support/varying_normal_table.hpp"
 #include "sweep_test_util.hpp"
 
@@ -86,9 +88,7 @@ void expect_same_values(const std::string& name, const std::vector<double>& seri
 }
 
 std::string mpirun(int ranks) {
-  return "ASAN_OPTIONS=\"${ASAN_OPTIONS:-}:detect_leaks=0\" timeout 300 " +
-         std::string(FRETBEM_MPIEXEC) + " --allow-run-as-root --oversubscribe -n " +
-         std::to_string(ranks) + " ";
+  return fretbem_test::mpiexec_command(ranks, 300);
 }
 
 std::string scenario(const std::string& name) {
@@ -485,8 +485,10 @@ TEST(RunMpi, SignalToOneRankStopsAllAndResumes) {
       FRETBEM_MPIEXEC, "--allow-run-as-root", "--oversubscribe", "-n", "2", FRETBEM_BINARY, "run"};
   std::istringstream words(small_mindlin() + " --quiet --out " + (d / "sig").string());
   for (std::string w; words >> w;) argv.push_back(w);
+  const std::string session = fretbem_test::mpi_session_base();
   const pid_t mpirun_pid = fork();
   if (mpirun_pid == 0) {
+    ::setenv("OMPI_MCA_orte_tmpdir_base", session.c_str(), 1);
     const int e = ::open((d / "err").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (e < 0 || ::dup2(e, 2) < 0) ::_exit(126);
     std::vector<char*> args;

@@ -4,20 +4,15 @@
 
 #include <fstream>
 
+#include "support/mpi_launch.hpp"
 #include "sweep_test_util.hpp"
 
 using namespace sweep_test;
 
 namespace {
 
-// Open MPI refuses root without --allow-run-as-root, and a container with fewer free slots
-// than ranks needs --oversubscribe (docs/cluster.md). Under the sanitized build
-// (tools/test.sh --sanitize) the ranks run without leak detection: Open MPI 4.1.4 keeps its
-// component and operator tables to the end of the process (LeakSanitizer counted 121 kB in
-// 3347 allocations per rank, every stack inside libmpi or its unloaded plugins).
 std::string mpirun(int ranks) {
-  return "ASAN_OPTIONS=\"${ASAN_OPTIONS:-}:detect_leaks=0\" " + std::string(FRETBEM_MPIEXEC) +
-         " --allow-run-as-root --oversubscribe -n " + std::to_string(ranks) + " ";
+  return fretbem_test::mpiexec_command(ranks);
 }
 
 const std::string kSmall = " --set grid.n=32 --set load.cycles=1 --set load.steps_per_cycle=8";

@@ -130,10 +130,10 @@ def finish(p, argv, t0, cpu_limit=CPU_LIMIT):
                 return Run(argv, "timeout", "", "", time.time() - t0)
 
 
-def start(binary, args, cwd):
+def start(binary, args, cwd, env=None):
     argv = [binary] + args
     return subprocess.Popen(argv, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True), argv, time.time()
+                            text=True, env=env), argv, time.time()
 
 
 def fretbem(binary, args, cwd):
@@ -370,7 +370,13 @@ def mpi_banner_removed(run):
 
 
 def start_on_ranks(binary, args, cwd):
-    return start(MPIRUN[0], MPIRUN[1:] + [binary] + args, cwd)
+    """mpirun with Open MPI's session directory in the case's folder: two mpirun started at
+    once (two cases, or the test suite beside the sweep) race to create the shared
+    /tmp/ompi.HOST.UID ("mkdir ... File exists", orte_init failed)."""
+    session = os.path.join(cwd, "ompi")
+    os.makedirs(session, exist_ok=True)
+    env = dict(os.environ, OMPI_MCA_orte_tmpdir_base=session)
+    return start(MPIRUN[0], MPIRUN[1:] + [binary] + args, cwd, env)
 
 
 def on_ranks(binary, args, cwd):
@@ -612,7 +618,7 @@ def sweep_case(binary, seed, index, root, keep, limits, all_mpi=False):
     outcome, problems, runs = judge_case(binary, case, cwd)
     if outcome != "fail" and not keep:
         for out in ("plain", "stop", "term", "cycle", "whole", "serial", "mpi", "mpistop",
-                    "mpiterm", OVER):
+                    "mpiterm", OVER, "ompi"):
             shutil.rmtree(os.path.join(cwd, out), ignore_errors=True)
     failed = outcome == "fail"
     return {"case": index, "mode": case.mode, "mode_arg": case.mode_arg, "outcome": outcome,
