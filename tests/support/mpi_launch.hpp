@@ -9,10 +9,10 @@
 namespace fretbem_test {
 
 /// Open MPI's session directory base for the mpiexec this test process starts: a folder of its
-/// own. Under the shared default, /tmp/ompi.HOST.UID, two mpiexec started at once (ctest -j2
-/// runs two MPI tests together) raced to create it: "mkdir ... File exists", orte_init failed
-/// (TangentialSolverMpi.DisplacementControlEqualsSerial, in a clean clone's .ci/run beside a
-/// combination sweep's mpirun).
+/// own. Under the shared default, ompi.HOST.UID in the temporary root, two mpiexec started at
+/// once (ctest -j2 runs two MPI tests together) raced to create it: "mkdir ... File exists",
+/// orte_init failed (TangentialSolverMpi.DisplacementControlEqualsSerial, in a clean clone's
+/// .ci/run beside a combination sweep's mpirun).
 inline std::string mpi_session_base() {
   const auto d = process_temp_dir() / "ompi";
   std::filesystem::create_directories(d);

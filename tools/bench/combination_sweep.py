@@ -372,7 +372,8 @@ def mpi_banner_removed(run):
 def start_on_ranks(binary, args, cwd):
     """mpirun with Open MPI's session directory in the case's folder: two mpirun started at
     once (two cases, or the test suite beside the sweep) race to create the shared
-    /tmp/ompi.HOST.UID ("mkdir ... File exists", orte_init failed)."""
+    session directory ompi.HOST.UID in the temporary root ("mkdir ... File exists", orte_init
+    failed)."""
     session = os.path.join(cwd, "ompi")
     os.makedirs(session, exist_ok=True)
     env = dict(os.environ, OMPI_MCA_orte_tmpdir_base=session)
