@@ -140,6 +140,10 @@ const Communicator& WearCycles::comm() const {
 }
 
 // Over the grid's ranks; -inf for an empty slab.
+double WearCycles::volume(const Field& worn) const {
+  return comm().sum(worn.sum()) * model_.scenario.grid.cell_area();
+}
+
 double WearCycles::largest(const Field& x) const {
   return comm().max(x.size() ? x.maxCoeff() : -HUGE_VAL);
 }
@@ -191,7 +195,7 @@ void WearCycles::fresh(const Field& worn, const Field& pressure) {
     model_.friction->bound(s, m.fields["bound"]);  // the traction-free state's, as cold
     s.pressure = pressure;
   }
-  m.wear_volume = comm().sum(worn.sum()) * model_.scenario.grid.cell_area();
+  m.wear_volume = volume(worn);
   stepper_.restore(s, m);
 }
 
@@ -256,7 +260,7 @@ WearCycle WearCycles::steady_from_last_loop(double N, const Field& worn) {
   StepperMemory m = stepper_.memory();
   m.last_normal.reset();    // forces the normal re-solve on the new surface
   m.fields.erase("bound");  // recomputed from the state
-  m.wear_volume = comm().sum(worn.sum()) * model_.scenario.grid.cell_area();
+  m.wear_volume = volume(worn);
   stepper_.restore(s, m);
   stepper_.set_wear_cycle(N);  // named in a solver failure's message
   const int passes = settle();
@@ -415,7 +419,7 @@ WearCycle WearCycles::measure(double N, const std::vector<LoadStep>& steps, doub
   c.N = N;
   c.rate = s.wear - wear0;
   c.energy = m.energy;
-  c.wear_volume = comm().sum(worn.sum()) * model_.scenario.grid.cell_area();
+  c.wear_volume = volume(worn);
   c.max_depth = largest(worn);
   c.contact_radius = m.contact_radius;
   c.stick_area = m.stick_area;

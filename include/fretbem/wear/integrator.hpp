@@ -195,6 +195,8 @@ class WearCycles {
   const Communicator& comm() const;
   /// Largest value of a field over the grid's ranks (collective).
   double largest(const Field& x) const;
+  /// Worn volume (m^3) of worn depths `worn` (m) over the grid's ranks (collective).
+  double volume(const Field& worn) const;
   /// The normal loading alone of surface z0 - worn from a traction-free state, silent: its
   /// state is returned, the stepper (the run's cumulative dissipation with it) and the model's
   /// surface are left as they were.
