@@ -101,37 +101,91 @@ TEST(CostEstimate, ConvolutionsOfForceControlledRunsWithinStatedFactor) {
   }
 }
 
+namespace {
+
+// The unit sphere under F_z = F0 (1 + 0.3 sin 2 pi t), F_x = 0.3 F0 cos 2 pi t, 16 rows a
+// period over three periods (a quarter-period lead-in from F_x = 0), with `load_keys` in [load].
+std::string sphere_table_ini(const fs::path& dir, const std::string& load_keys) {
+  const double F0 = fretbem_test::unit_hertz_force();
+  std::ofstream table(dir / "varying.csv");
+  table << std::setprecision(17) << "time,Fz,Fx\n";
+  for (int k = -4; k <= 48; ++k) {
+    const double t = k / 16.0;
+    table << t << "," << F0 * (1 + 0.3 * std::sin(2 * M_PI * t)) << ","
+          << (k == -4 ? 0.0 : 0.3 * F0 * std::cos(2 * M_PI * t)) << "\n";
+  }
+  return fretbem_test::unit_sphere_ini(32, "path = table\ntable = varying.csv\n" + load_keys,
+                                       "[solver]\nstiffness = false\n");
+}
+
+fs::path temporary_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / (name + std::to_string(getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
 // A table whose normal load changes on every row moves the Coulomb bound within every step, so
 // no later step starts at its answer: neither the settled share nor the cycle predictor's
-// applies (kMovingBoundStepShare). The unit sphere under F_z = F0 (1 + 0.3 sin 2 pi t),
-// F_x = 0.3 F0 cos 2 pi t, 16 rows a period over three periods, its rows whole and in 4
-// sub-steps, within the stated factor 1.5 (measured here 0.75 and 0.83; on the five cases of
-// tools/bench/step_control_cost.py, n = 48-96, 32 rows a period: 1.04-1.29 whole, 1.00-1.13
-// in 4 sub-steps; 1.34-5.4 before the moving-bound share).
+// applies (kMovingBoundStepShare). Its rows whole and in 4 sub-steps, within the stated factor
+// 1.5 (measured here 0.75 and 0.83; on the five cases of tools/bench/step_control_cost.py,
+// n = 48-96, 32 rows a period: 1.04-1.29 whole, 1.00-1.13 in 4 sub-steps; 1.34-5.4 before the
+// moving-bound share).
 TEST(CostEstimate, ConvolutionsOfAVaryingNormalLoadTableWithinStatedFactor) {
-  const fs::path dir = fs::temp_directory_path() / ("fretbem_cost_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  const double F0 = fretbem_test::unit_hertz_force();
-  {
-    std::ofstream table(dir / "varying.csv");
-    table << std::setprecision(17) << "time,Fz,Fx\n";
-    for (int k = -4; k <= 48; ++k) {
-      const double t = k / 16.0;
-      table << t << "," << F0 * (1 + 0.3 * std::sin(2 * M_PI * t)) << ","
-            << (k == -4 ? 0.0 : 0.3 * F0 * std::cos(2 * M_PI * t)) << "\n";
-    }
-  }
+  const fs::path dir = temporary_dir("fretbem_cost_");
   for (const char* substeps : {"1", "4"}) {
-    const std::string text = fretbem_test::unit_sphere_ini(
-        32, "path = table\ntable = varying.csv\nsubsteps = " + std::string(substeps),
-        "[solver]\nstiffness = false\n");
-    const Scenario sc = parse_scenario(text, "varying", dir);
+    const Scenario sc = parse_scenario(sphere_table_ini(dir, "substeps = " + std::string(substeps)),
+                                       "varying", dir);
     const double predicted = estimate_run_cost(sc).convolutions;
     const double measured = run_convolutions(sc);
     std::printf("substeps %s: measured %g, predicted %g, ratio %.3f\n", substeps, measured,
                 predicted, measured / predicted);
     EXPECT_GT(measured / predicted, 1.0 / 1.5) << substeps;
     EXPECT_LT(measured / predicted, 1.5) << substeps;
+  }
+  fs::remove_all(dir);
+}
+
+// The sinusoidal varying-load table of tools/bench/step_control_cost.py (F_z = P (1 + 0.3 sin
+// 2 pi t), F_x = 0.5 mu P cos 2 pi t, 32 rows a period from t = -1/4 over three periods) on
+// its rough case (rough_fretting_cycle.ini's surface, n = 64, P = 2 N) under load.tolerance.
+std::string rough_bench_ini(const fs::path& dir, const std::string& tolerance) {
+  std::ofstream table(dir / "rough.csv");
+  table << std::setprecision(17) << "time,Fz,Fx\n";
+  for (int j = 0; j <= 3 * 32 + 8; ++j) {
+    const double t = -0.25 + j / 32.0;
+    table << t << "," << 2.0 * (1 + 0.3 * std::sin(2 * M_PI * t)) << ","
+          << 0.5 * 0.5 * 2.0 * std::cos(2 * M_PI * t) << "\n";
+  }
+  return "[material]\nE = 210e9\nnu = 0.3\nmu = 0.5\n[grid]\nn = 64\nlength = 1e-4\n"
+         "[surface]\ntype = rough\nmethod = fourier\nhurst = 0.8\nrms_height = 1e-7\nseed = 1\n"
+         "[load]\npath = table\ntable = rough.csv\ntolerance = " +
+         tolerance + "\n[solver]\nstiffness = none\n";
+}
+
+}  // namespace
+
+// Under load.tolerance the step control solves each row whose normal load changes in the
+// sub-steps a rate learnt over the run's first period asks for; the estimate forecasts them
+// from the path's curvature (kCurvatureRateFactor); counting rows whole leaves the rough bench
+// 1.96 and 2.32 times above the estimate at 1e-3 and 1e-4. Within the stated
+// factor 1.5 there and on the unit sphere's 16-row table, and the printed range of the rate
+// (kCurvatureRateRange) holds the estimate.
+TEST(CostEstimate, ConvolutionsUnderLoadToleranceWithinStatedFactor) {
+  const fs::path dir = temporary_dir("fretbem_cost_tolerance_");
+  auto check = [](const Scenario& sc, const std::string& name) {
+    const RunCostEstimate e = estimate_run_cost(sc);
+    const double measured = run_convolutions(sc);
+    std::printf("%s: measured %g, predicted %g (%g to %g), ratio %.3f\n", name.c_str(), measured,
+                e.convolutions, e.convolutions_low, e.convolutions_high, measured / e.convolutions);
+    EXPECT_GT(measured / e.convolutions, 1.0 / 1.5) << name;
+    EXPECT_LT(measured / e.convolutions, 1.5) << name;
+    EXPECT_LE(e.convolutions_low, e.convolutions) << name;
+    EXPECT_GE(e.convolutions_high, e.convolutions) << name;
+  };
+  for (const std::string tolerance : {"1e-3", "1e-4"}) {
+    check(parse_scenario(rough_bench_ini(dir, tolerance), "rough", dir), "rough " + tolerance);
+    check(parse_scenario(sphere_table_ini(dir, "tolerance = " + tolerance), "varying", dir),
+          "unit sphere " + tolerance);
   }
   fs::remove_all(dir);
 }

@@ -59,6 +59,50 @@ bool load_unchanged(const LoadStep& a, const LoadStep& b, double scale) {
          (b.target - a.target).norm() <= kSameLoad * scale;
 }
 
+// The mean over the rows whose normal load changes, weighted by their spans, of |F''| / |F| at
+// the row's end (1/period^2): the second divided difference of the normal load there.
+double normal_load_curvature(const LoadPath& path) {
+  const std::vector<LoadStep>& s = path.steps;
+  double sum = 0.0, time = 0.0;
+  for (std::size_t i = 1; i + 1 < s.size(); ++i) {
+    const double h0 = s[i].time - s[i - 1].time, h1 = s[i + 1].time - s[i].time;
+    const double f = s[i].normal.value;
+    if (!bound_moves_within(s[i - 1], s[i]) || !(h0 > 0.0 && h1 > 0.0) || f == 0.0) continue;
+    const double slopes = (s[i + 1].normal.value - f) / h1 - (f - s[i - 1].normal.value) / h0;
+    sum += h0 * std::abs(2.0 * slopes / (h0 + h1) / f);
+    time += h0;
+  }
+  return time > 0.0 ? sum / time : 0.0;
+}
+
+// The sub-steps the step control of load.tolerance will give row i (1 where its normal load
+// does not change): at the rate `factor` x the path's curvature (kCurvatureRateFactor), and up
+// to the end of the first whole period at `calibrated` (the rate in force after the
+// calibration) where it is larger.
+struct SubstepForecast {
+  double curvature = 0.0, calibrated = -1.0, first_period_end = 0.0, tolerance = 0.0;
+  int operator()(const LoadPath& path, std::size_t i, double factor) const {
+    const LoadStep &a = path.steps[i - 1], &b = path.steps[i];
+    if (!bound_moves_within(a, b)) return 1;
+    const double rate = factor * curvature;
+    const double r = b.time <= first_period_end ? std::max(rate, calibrated) : rate;
+    return substeps_for(b.time - a.time, r, tolerance);
+  }
+};
+
+SubstepForecast forecast_substeps(const Model& model, const Stepper& stepper, std::size_t next) {
+  SubstepForecast f;
+  f.tolerance = model.scenario.load.tolerance;
+  f.curvature = normal_load_curvature(model.path);
+  const std::vector<LoadStep>& s = model.path.steps;
+  f.first_period_end = std::ceil(s.front().time) + 1.0;
+  const StepperMemory memory = stepper.memory();
+  if (!memory.step_period.empty() && next < s.size())
+    f.calibrated = PeriodRate::unflatten(memory.step_period)
+                       .for_row(cycle_containing_end(s[next].time), s[next - 1].time);
+  return f;
+}
+
 }  // namespace
 
 MemoryEstimate estimate_memory(const Scenario& sc, bool cycle_predictor, double predictor_bytes) {
@@ -146,21 +190,21 @@ RunCostEstimate estimate_run_cost(const Scenario& sc) {
     const StepRecord r = stepper.advance(k);
     solve_seconds += meter.seconds();
     convolutions += r.convolutions;
-    return double(r.convolutions);
+    return r;
   };
   const std::vector<double> share = step_cost_shares(*model);
   const double scale = target_scale(model->path);
-  const double step0 = timed(0);
-  double calibrated = 0.0;  // tangential steps solved, a row's sub-steps each
+  const double step0 = timed(0).convolutions;
+  double calibrated = 0.0;  // tangential solves: a row's sub-steps each, a row solved again twice
   double repeated = 0.0;    // convolutions of rows that repeat the row before
   std::size_t k = 1;
   for (int solved = 0; k < steps && solved < kCalibrationSteps; ++k) {
-    const double c = timed(k);
+    const StepRecord r = timed(k);
     if (load_unchanged(model->path.steps[k - 1], model->path.steps[k], scale)) {
-      repeated += c;
+      repeated += r.convolutions;
       continue;
     }
-    tangential += c, calibrated += row_substeps(*model, k), ++solved;
+    tangential += r.convolutions, calibrated += r.substeps, ++solved;
     if (process_cpu_seconds() - cpu0 > kCalibrationSeconds) {
       ++k;
       break;
@@ -168,18 +212,41 @@ RunCostEstimate estimate_run_cost(const Scenario& sc) {
   }
   e.calibration_steps = int(k);
   const double per_step = calibrated > 0 ? tangential / calibrated : 0.0;
-  double remaining = 0.0;  // remaining steps weighted by their cost relative to the calibrated
-  for (std::size_t i = k; i < steps; ++i) remaining += share[i];
-  e.convolutions = step0 + repeated + tangential + per_step * remaining;
+  const double solved = step0 + repeated + tangential;
+  // Remaining steps weighted by their cost relative to a calibrated solve; under
+  // load.tolerance a row's share (that of one solve) times its forecast sub-steps.
+  const bool controlled = sc.load.tolerance > 0.0;
+  const SubstepForecast forecast =
+      controlled ? forecast_substeps(*model, stepper, k) : SubstepForecast{};
+  auto remaining = [&](double factor) {
+    double sum = 0.0;
+    for (std::size_t i = k; i < steps; ++i)
+      sum += share[i] * (controlled ? forecast(model->path, i, factor) : 1);
+    return solved + per_step * sum;
+  };
+  e.convolutions = remaining(kCurvatureRateFactor);
+  if (controlled && forecast.curvature > 0.0) {
+    e.convolutions_low = remaining(kCurvatureRateRange[0]);
+    e.convolutions_high = remaining(kCurvatureRateRange[1]);
+  }
   e.seconds = convolutions > 0 ? e.convolutions * solve_seconds / convolutions : solve_seconds;
   e.calibration_seconds = process_cpu_seconds() - cpu0;
   return e;
 }
 
 std::string describe(const RunCostEstimate& e, std::size_t steps) {
-  return "  cost: about " + num(e.convolutions, "%.3g") + " FFT convolutions, " + num(e.seconds) +
-         " s of CPU (from " + std::to_string(e.calibration_steps) + " of " + std::to_string(steps) +
-         " steps solved in " + num(e.calibration_seconds) + " s; outputs not counted)\n";
+  std::string text = "  cost: about " + num(e.convolutions, "%.3g") + " FFT convolutions, " +
+                     num(e.seconds) + " s of CPU (from " + std::to_string(e.calibration_steps) +
+                     " of " + std::to_string(steps) + " steps solved in " +
+                     num(e.calibration_seconds) + " s; outputs not counted)\n";
+  if (e.convolutions_high > 0.0 && e.convolutions > 0.0) {
+    const double per = e.seconds / e.convolutions;
+    text += "  load.tolerance: " + num(e.convolutions_low, "%.3g") + " to " +
+            num(e.convolutions_high, "%.3g") + " FFT convolutions, " +
+            num(per * e.convolutions_low) + " to " + num(per * e.convolutions_high) +
+            " s of CPU (the step control's sub-steps over the measured range of its rate)\n";
+  }
+  return text;
 }
 
 }  // namespace fretbem

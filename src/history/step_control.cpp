@@ -174,6 +174,7 @@ StepRecord Stepper::advance_substepped(std::size_t k) {
   row_guess_ = guess_;
   row_guess_predicted_ = guess_predicted_, row_guess_continues_ = guess_continues_;
   substep_normal_iterations_ = substep_tangential_iterations_ = substep_coupling_iterations_ = 0;
+  substeps_solved_ = 0;
   StepRecord last;
   const double error = controlled ? solve_controlled(a, b, int(k), last)
                                   : solve_substeps(a, b, fixed_substeps(model_), int(k), last);
@@ -181,6 +182,7 @@ StepRecord Stepper::advance_substepped(std::size_t k) {
   last.normal_iterations = substep_normal_iterations_;
   last.tangential_iterations = substep_tangential_iterations_;
   last.coupling_iterations = substep_coupling_iterations_;
+  last.substeps = substeps_solved_;
   last.convolutions = int(hs.convolutions() - conv0);
   last.step_error = error;
   return last;
@@ -225,6 +227,7 @@ double Stepper::solve_substeps(const LoadStep& a, const LoadStep& b, int m, int 
   const bool controlled = model_.scenario.load.tolerance > 0.0;
   const bool remember = m > 1 && substep_predictor_ && repeated_later_.at(std::size_t(k));
   row_whole_ = m == 1;
+  substeps_solved_ += m;
   double work_error = 0.0;
   LoadStep from = a;
   for (int j = 1; j <= m; ++j) {

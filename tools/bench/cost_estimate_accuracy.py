@@ -9,6 +9,12 @@ user + system CPU from os.wait4, so a loaded machine does not inflate it). Also 
 calibration alone. Usage:
 
     nice -n 10 tools/bench/cost_estimate_accuracy.py BUILD_DIR [OUT_DIR] [--case NAME ...]
+    nice -n 10 tools/bench/cost_estimate_accuracy.py BUILD_DIR --step-control [--case NAME ...]
+
+--step-control: the five cases of step_control_cost.py (its 32-row tables over 3.25 periods)
+under load.tolerance 1e-3, 5e-4 and 1e-4 instead of the shipped scenarios. In parentheses:
+the convolutions at the ends of the rate range `check` prints under load.tolerance, and the
+measured over them.
 
 Results are in docs/reliability.md ("Accuracy of check's cost estimate").
 """
@@ -54,7 +60,7 @@ def num(pattern, text):
 
 
 def measure(exe, name, scenario, sets, out_dir):
-    sc = os.path.join(ROOT, "scenarios", scenario)
+    sc = scenario if os.path.isabs(scenario) else os.path.join(ROOT, "scenarios", scenario)
     args = sum((["--set", s] for s in sets), [])
     chk, chk_cpu = cpu_run([exe, "check", sc] + args)
     _, nocal_cpu = cpu_run([exe, "check", sc, "--no-estimate"] + args)
@@ -76,7 +82,30 @@ def measure(exe, name, scenario, sets, out_dir):
         with open(os.path.join(run_dir, "timeseries.csv")) as f:
             row["measured"] = sum(float(r["convolutions"]) for r in csv.DictReader(f))
         row["pred_cpu_low"] = row["pred_cpu_high"] = num(r"FFT convolutions, ([0-9.e+]+) s", chk)
+        # load.tolerance: the convolutions at the ends of the step control's rate range.
+        m = re.search(r"load.tolerance: ([0-9.e+]+) to ([0-9.e+]+) FFT", chk)
+        if m:
+            row["rate_range"] = (float(m.group(1)), float(m.group(2)))
     return row
+
+
+STEP_CONTROL_CASES = ["sphere", "rough", "displacement", "rough_displacement", "cerruti"]
+STEP_CONTROL_TOLERANCES = [1e-3, 5e-4, 1e-4]
+
+
+def step_control_cases(out_dir):
+    """(name, scenario path, no overrides) of step_control_cost.py's tables under load.tolerance."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import step_control_cost as scc
+    cases = []
+    for case in STEP_CONTROL_CASES:
+        for tol in STEP_CONTROL_TOLERANCES:
+            tag = "%s_tol_%g" % (case, tol)
+            table, ini = (os.path.join(out_dir, tag + e) for e in (".csv", ".ini"))
+            scc.write_table(table, case, 32, 1)
+            scc.write_scenario(ini, case, table, tol)
+            cases.append(("%s tolerance %g" % (case, tol), ini, []))
+    return cases
 
 
 def main():
@@ -84,16 +113,23 @@ def main():
     out_dir = sys.argv[2] if len(sys.argv) > 2 and not sys.argv[2].startswith("--") else None
     only = [sys.argv[i + 1] for i, a in enumerate(sys.argv) if a == "--case"]
     out_dir = out_dir or tempfile.mkdtemp(prefix="cost_estimate_")
+    os.makedirs(out_dir, exist_ok=True)
+    cases = step_control_cases(out_dir) if "--step-control" in sys.argv else CASES
     print("| case | predicted | measured | measured / predicted | predicted CPU s | "
           "run CPU s | measured / predicted | calibration CPU s | run / predicted CPU per cycle |")
     print("|---|---|---|---|---|---|---|---|---|")
-    for name, scenario, sets in CASES:
+    for name, scenario, sets in cases:
         if only and not any(o in name for o in only):
             continue
         r = measure(exe, name, scenario, sets, out_dir)
         rng = lambda lo, hi, f: (f % lo) if lo == hi else (f % lo) + "–" + (f % hi)
-        print(f"| {r['case']} | {rng(r['pred_low'], r['pred_high'], '%.4g')} | {r['measured']:.4g} | "
-              f"{rng(r['measured'] / r['pred_high'], r['measured'] / r['pred_low'], '%.2f')} | "
+        lo, hi = r.get("rate_range", (0, 0))
+        pred_range = f" ({rng(lo, hi, '%.4g')})" if hi else ""
+        ratio_range = f" ({rng(r['measured'] / hi, r['measured'] / lo, '%.2f')})" if hi else ""
+        print(f"| {r['case']} | {rng(r['pred_low'], r['pred_high'], '%.4g')}{pred_range} | "
+              f"{r['measured']:.4g} | "
+              f"{rng(r['measured'] / r['pred_high'], r['measured'] / r['pred_low'], '%.2f')}"
+              f"{ratio_range} | "
               f"{rng(r['pred_cpu_low'], r['pred_cpu_high'], '%.2g')} | {r['run_cpu']:.2f} | "
               f"{rng(r['run_cpu'] / r['pred_cpu_high'], r['run_cpu'] / r['pred_cpu_low'], '%.2f')} | "
               f"{r['calibration_cpu']:.2f} | "

@@ -102,6 +102,9 @@ struct RunCostEstimate {
   double seconds = 0.0;              ///< predicted CPU time of the solves (s), outputs excluded
   int calibration_steps = 0;         ///< steps solved to calibrate (step 0 included)
   double calibration_seconds = 0.0;  ///< CPU time of the calibration, operators built (s)
+  /// Under load.tolerance where the path's normal load changes: the convolutions at the ends
+  /// of the measured range of the step control's rate (kCurvatureRateRange); 0 otherwise.
+  double convolutions_low = 0.0, convolutions_high = 0.0;
 };
 
 /// Calibration budget: step 0 (the normal loading), then tangential steps until
@@ -130,6 +133,25 @@ inline constexpr double kPredictedStepShare = 0.04;
 /// 1.06-1.58x under solver.coupling = cerruti; the first period's 1.1-1.4x.
 inline constexpr double kMovingBoundStepShare = 1.0;
 
+/// Under load.tolerance: the rate (1/period^2, PeriodRate) the step control settles at on a
+/// path, over the time mean of |F''| / |F| along the rows whose normal load changes (F the
+/// normal load, F'' its second divided difference at each row's end: the change of the rows'
+/// slopes, the kinks the embedded estimate sees). The rate is not known from the calibrated
+/// rows: after the calibration's four rows of tools/bench/step_control_cost.py's tables
+/// (F_z = P (1 + 0.3 sin 2 pi t), 32 rows a period from t = -1/4) it measured 0.17-7.9 where the
+/// runs' rate from the second period on averaged 1.19-2.05 (its five cases at 1e-3, 5e-4 and
+/// 1e-4). Those averages over the path's curvature mean (8.12) are 0.15-0.25, and 0.13-0.29
+/// with the bench's sphere at n = 48 under normal-load amplitudes 0.1, 0.3 and 0.5 and a
+/// tangential amplitude of 0.25 mu P (1e-3): the middle, rounded. Measured on sinusoidal
+/// normal loads only.
+inline constexpr double kCurvatureRateFactor = 0.2;
+/// The range of that ratio `fretbem check` prints beside its estimate: the 19 runs above within
+/// 0.13-0.29, and the Cerruti case at n = 32 and 1e-3 at about 0.11 (its third period's
+/// step_error 9.2e-4: its rows stayed whole where 0.2 forecasts 2 sub-steps), rounded
+/// outwards. A row's sub-steps jump by one where Δt √(rate/ε) crosses an integer, so near such
+/// a crossing no single rate holds a factor 1.5.
+inline constexpr double kCurvatureRateRange[2] = {0.1, 0.3};
+
 /// Each step's cost relative to a first tangential step (step 0 counts 1 too): 1 up to the
 /// path's second turning point, kSettledStepShare after it, kPredictedStepShare where the
 /// cycle predictor starts the step; a step the Masing image starts counts kSettledStepShare
@@ -144,10 +166,13 @@ std::vector<double> step_cost_shares(const Model& model);
 
 /// Builds the model (operators included), solves the first steps and extrapolates: the
 /// convolutions of step 0 plus the mean of the calibrated tangential steps (a row's sub-steps
-/// each; rows that repeat the row before are solved but not calibrated on) times the steps
-/// left, each at its step_cost_shares share; seconds = convolutions x
-/// the calibration's CPU seconds per convolution. Writes no file. Not for wear runs
-/// (estimate_wear_cost).
+/// each, a row solved again counted twice; rows that repeat the row before are solved but not
+/// calibrated on) times the steps left, each at its step_cost_shares share; seconds =
+/// convolutions x the calibration's CPU seconds per convolution. Under load.tolerance a row
+/// whose normal load changes counts the sub-steps substeps_for gives it at the rate
+/// kCurvatureRateFactor predicts, and until the end of the path's first whole period at the
+/// calibration's rate where that is larger (the rate is never lowered before a period is
+/// solved). Writes no file. Not for wear runs (estimate_wear_cost).
 RunCostEstimate estimate_run_cost(const Scenario& sc);
 
 /// The report line(s) of `fretbem check`, each ending in '\n'.

@@ -36,6 +36,10 @@ struct StepRecord {
   /// (history/step_control.hpp), relative to the dissipation per period, summed over its
   /// sub-steps; 0 where nothing was estimated.
   double step_error = 0;
+  /// Solves of the row: its sub-steps (load.substeps, load.tolerance), those of a row solved
+  /// again included; 1 for a row solved whole. Not a column: what the cost estimate's
+  /// calibration counts its convolutions over.
+  int substeps = 1;
 
   /// Column names, in the order of values(); the first 18 are the README contract.
   static const std::vector<std::string>& columns();

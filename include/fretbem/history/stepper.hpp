@@ -228,6 +228,7 @@ class Stepper {
   bool row_whole_ = true;
   int substep_normal_iterations_ = 0, substep_tangential_iterations_ = 0;
   int substep_coupling_iterations_ = 0;
+  int substeps_solved_ = 0;         ///< the row's solves so far (StepRecord::substeps)
   EstimateMemory estimate_memory_;  ///< load.tolerance > 0: the step before the next one
   PeriodRate period_rate_;          ///< load.tolerance > 0: the rate that sets a period's sub-steps
   bool estimated_ = false;          ///< the step being advanced booked an increment
