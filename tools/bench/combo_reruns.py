@@ -157,17 +157,29 @@ def table_columns(header, rows):
     return {c: [number(r[i]) for r in rows] for i, c in enumerate(header)}
 
 
-def run_box(timeseries):
-    """F U of the whole run, both in-plane components, from its timeseries.csv: the box of a
-    loop energy of cycles.csv, whose Fx_amplitude and Ux_amplitude are round-off for a load
-    along y (loop_area, the loop of F along y, -6e-23 J against F U = 6.4e-8 J and Fx U_x =
-    2.4e-40 J on seed 55 case 57)."""
-    return energy_scale(table_columns(*read_rows(timeseries)), "dissipation")
+# Columns of x alone whose vector has no y column beside them: the stick zone's share of F_x
+# and cycles.csv's amplitudes, round-off for a load along y (Fx_stick 9e-13 N against F_y =
+# 12.7 N on seed 59 case 18, 0.36 to 1.7 of itself apart on two ranks; Fx_amplitude 7.9e-16 N,
+# Ux_amplitude 4.6e-20 m): measured against the run's largest force or shift (run_scales).
+X_ALONE = {"Fx_stick": "F", "Fx_amplitude": "F", "Ux_amplitude": "U"}
 
 
-def table_differences(name, serial, other, relative, box):
+def run_scales(timeseries):
+    """{column: scale} from a run's timeseries.csv, both in-plane components: the largest force
+    or shift for X_ALONE, and F U of the whole run for a loop energy (LOOP_ENERGY) of
+    cycles.csv, whose Fx_amplitude and Ux_amplitude are round-off for a load along y
+    (loop_area, the loop of F along y, -6e-23 J against F U = 6.4e-8 J and Fx U_x = 2.4e-40 J
+    on seed 55 case 57)."""
+    values = table_columns(*read_rows(timeseries))
+    vector = {c: max(largest(values.get(c + "x")), largest(values.get(c + "y"))) for c in "FU"}
+    out = {name: vector[c] for name, c in X_ALONE.items()}
+    out.update({name: vector["F"] * vector["U"] for name in LOOP_ENERGY})
+    return out
+
+
+def table_differences(name, serial, other, relative, run):
     """(problems of shape, [(what, difference, bound)]) of two runs' `name` (a CSV file);
-    `box`: the loop's F U for the loop energies (LOOP_ENERGY), run_box."""
+    `run`: the serial run's scales (run_scales)."""
     (h1, r1), (h2, r2) = read_rows(serial), read_rows(other)
     if h1 != h2:
         return [f"{name} header differs"], []
@@ -176,9 +188,7 @@ def table_differences(name, serial, other, relative, box):
     a, b = table_columns(h1, r1), table_columns(h1, r2)
     out = []
     for col in h1:
-        scale = component_scale(a, col)
-        if col in LOOP_ENERGY:
-            scale = max(scale, box)
+        scale = max(component_scale(a, col), run.get(col, 0.0))
         out += compared(f"{name} column", col, a[col], b[col], scale, relative)
     return [], out
 
@@ -227,10 +237,13 @@ def field_history(values):
     return out
 
 
-def dataset_scale(values, history, name):
-    """component_scale, and for a saved step's field its history's (and its partner's)
-    largest."""
+def dataset_scale(values, history, run, name):
+    """component_scale, the run's scale (run_scales) for a copy of a CSV column, and for a
+    saved step's field its history's (and its partner's) largest."""
+    head, _, tail = name.rpartition("/")
     scale = component_scale(values, name)
+    if head in ("series/timeseries", "series/cycles"):
+        scale = max(scale, run.get(tail, 0.0))
     key = history_of(name)
     if key:
         other = partner(key)
@@ -238,7 +251,7 @@ def dataset_scale(values, history, name):
     return scale
 
 
-def dataset_differences(serial, other, relative):
+def dataset_differences(serial, other, relative, run):
     """(problems of shape, [(what, difference, bound)]) of two runs' result.h5."""
     a, b = numeric_datasets(serial), numeric_datasets(other)
     if set(a) != set(b):
@@ -248,7 +261,7 @@ def dataset_differences(serial, other, relative):
     out = []
     for name in sorted(a):
         out += compared(f"result.h5 {name}", name.rsplit("/", 1)[-1], a[name], b[name],
-                        dataset_scale(a, history, name), relative)
+                        dataset_scale(a, history, run, name), relative)
     return [], out
 
 
@@ -256,14 +269,14 @@ def differences(case, serial, other):
     """(problems of shape, [(what, difference, bound)]) of run folder `other` against the
     serial run folder `serial`: every file, column and dataset at the module's bounds."""
     relative = relative_bound(case)
-    box = run_box(os.path.join(serial, "timeseries.csv"))
+    run = run_scales(os.path.join(serial, "timeseries.csv"))
     shape, out = [], []
     for name in ("timeseries.csv", "cycles.csv"):
         s, d = table_differences(name, os.path.join(serial, name), os.path.join(other, name),
-                                 relative, box)
+                                 relative, run)
         shape, out = shape + s, out + d
     s, d = dataset_differences(os.path.join(serial, "result.h5"),
-                               os.path.join(other, "result.h5"), relative)
+                               os.path.join(other, "result.h5"), relative, run)
     return shape + s, out + d
 
 
