@@ -53,8 +53,8 @@ import time
 from combo_cases import FULL, QUICK, draw_case
 from combo_invariants import final_wear_close, kx_rtol, read_rows, run_invariants, \
     same_field_groups, same_rows
-from combo_reruns import MPI_TOLERANCE, files_intact, refused_on_ranks, run_files, \
-    same_as_serial
+from combo_reruns import MPI_TOLERANCE, error_controlled, files_intact, refused_on_ranks, \
+    run_files, same_as_serial, serial_spread
 from fretbem_outputs import LIBRARY_TEXT, nonfinite_in_csv, nonfinite_in_h5
 
 # Per fretbem command: the cases take 0.01-20 s of CPU (a coupled dirk wear run at n = 32 took
@@ -401,6 +401,28 @@ def terminated_on_ranks(binary, args, cwd, rows):
     return run
 
 
+class SerialSpread:
+    """The serial run's own move at a tenth of MPI_TOLERANCE (combo_reruns.serial_spread), run
+    once, when an error-controlled wear run's ranks first part from it beyond the bounds."""
+
+    def __init__(self, binary, case, cwd, runs):
+        self.binary, self.case, self.cwd, self.runs, self.spread = binary, case, cwd, runs, None
+
+    def compare(self, label, other):
+        serial = os.path.join(self.cwd, "serial")
+        problems = same_as_serial(label, self.case, serial, other)
+        if not problems or not error_controlled(self.case):
+            return problems
+        if self.spread is None:
+            tighter = fretbem(self.binary, ["run", "scenario.ini", "--out", "serial13", "--quiet",
+                                            "--set", f"solver.tolerance={MPI_TOLERANCE / 10:g}"],
+                              self.cwd)
+            self.runs.append(tighter)
+            self.spread = serial_spread(self.case, serial, os.path.join(self.cwd, "serial13")) \
+                if tighter.code == 0 else {}
+        return same_as_serial(label, self.case, serial, other, self.spread)
+
+
 def mpi_refusal(binary, case, cwd, why, runs):
     mpi = on_ranks(binary, ["run", "scenario.ini", "--out", "mpi", "--quiet"], cwd)
     runs.append(mpi)
@@ -410,7 +432,7 @@ def mpi_refusal(binary, case, cwd, why, runs):
             f"{first_line(mpi.err)}"]
 
 
-def mpi_resumed(binary, case, cwd, plain, out, label, runs):
+def mpi_resumed(binary, case, cwd, plain, out, label, runs, spread):
     """The run folder `out`, stopped on the ranks, resumed on them and compared with the
     uninterrupted serial run (a fresh implicit wear integrator by its final row)."""
     resume = on_ranks(binary, ["run", "--resume", out, "--quiet"], cwd)
@@ -423,25 +445,23 @@ def mpi_resumed(binary, case, cwd, plain, out, label, runs):
     if case.is_wear() and implicit_wear(case, plain):
         return problems + final_wear_close(f"mpi {label} resumed (dirk)", case, os.path.join(
             ref, "cycles.csv"), os.path.join(cwd, out, "cycles.csv"))
-    return problems + same_as_serial(f"{label} then --resume", case, ref,
-                                     os.path.join(cwd, out))
+    return problems + spread.compare(f"{label} then --resume", os.path.join(cwd, out))
 
 
-def mpi_interrupted(binary, case, cwd, plain, tight, runs):
+def mpi_interrupted(binary, case, cwd, plain, tight, runs, spread):
     if case.mode == "stop":
         stop = on_ranks(binary, ["run", "scenario.ini", "--out", "mpistop", "--quiet",
                                  "--stop-after", str(case.mode_arg)] + tight, cwd)
         runs.append(stop)
         return exit_problems(stop, "stop-after on 2 ranks") or \
-            mpi_resumed(binary, case, cwd, plain, "mpistop", "stop-after", runs)
+            mpi_resumed(binary, case, cwd, plain, "mpistop", "stop-after", runs, spread)
     term = terminated_on_ranks(binary, ["run", "scenario.ini", "--out", "mpiterm", "--quiet"] +
                                tight, cwd, case.mode_arg)
     runs.append(term)
     if term.code == 0:  # finished before the signal arrived
-        return same_as_serial("sigterm (finished first)", case, os.path.join(cwd, "serial"),
-                              os.path.join(cwd, "mpiterm"))
+        return spread.compare("sigterm (finished first)", os.path.join(cwd, "mpiterm"))
     return exit_problems(term, "sigterm on 2 ranks", allowed=(143,)) or \
-        mpi_resumed(binary, case, cwd, plain, "mpiterm", "sigterm", runs)
+        mpi_resumed(binary, case, cwd, plain, "mpiterm", "sigterm", runs, spread)
 
 
 def judge_on_ranks(binary, case, cwd, plain, runs):
@@ -460,10 +480,11 @@ def judge_on_ranks(binary, case, cwd, plain, runs):
                 f"{first_line(mpi.err)}"] + exit_problems(serial, "serial at 1e-12")
     if serial.code != 0:
         return []
-    problems = finished_problems(case, cwd, "mpi") + same_as_serial(
-        "2 ranks", case, os.path.join(cwd, "serial"), os.path.join(cwd, "mpi"))
+    spread = SerialSpread(binary, case, cwd, runs)
+    problems = finished_problems(case, cwd, "mpi") + spread.compare("2 ranks",
+                                                                    os.path.join(cwd, "mpi"))
     if not problems and case.mode in ("stop", "sigterm"):
-        problems += mpi_interrupted(binary, case, cwd, plain, tight, runs)
+        problems += mpi_interrupted(binary, case, cwd, plain, tight, runs, spread)
     return problems
 
 

@@ -4,7 +4,8 @@ against the serial run, and a run folder's files before and after an --overwrite
 Two ranks against one process (docs/mpi-grid.md, "Tests" and "What differs from the serial
 run"): both solved to MPI_TOLERANCE = 1e-12, every column of timeseries.csv and cycles.csv and
 every numeric dataset of result.h5 within 1e-10 of its largest magnitude, or of the scale a
-value that can be round-off needs (component_scale), 1e-10 / wear.rtol for the error-controlled
+value that can be round-off needs (component_scale; a step's field: the field's largest over the
+saved steps, dataset_scale), 1e-10 / wear.rtol for the error-controlled
 wear integrators (relative_bound): the ranks change the order of the sums, so the iterates
 part by round-off and each stops within the solver tolerance of the exact increment; 1e-12
 makes the 1e-10 a statement about the distribution.
@@ -15,6 +16,7 @@ docs/mpi-grid.md refuses on ranks (refused_on_ranks) must be one error line and 
 """
 import math
 import os
+import re
 
 from combo_invariants import read_rows
 
@@ -54,9 +56,14 @@ def relative_bound(case):
     wear map over a step of ~rtol relative, docs/mpi-grid.md). Measured: the rows' N parted by
     6.4e-9 at rtol 1e-3 on seed 51 case 37 (dirk, Krylov, n = 24) and by 4.2e-10 on seed 53
     case 30 (dirk, frozen slip, N = 1000)."""
-    if case.is_wear() and case.get("wear.integrator") != "cycle":
+    if error_controlled(case):
         return MPI_RELATIVE / float(case.get("wear.rtol", 1e-3))
     return MPI_RELATIVE
+
+
+def error_controlled(case):
+    """A wear run of erk, dirk or arkode: its steps follow its error estimate."""
+    return case.is_wear() and case.get("wear.integrator") != "cycle"
 
 
 def solver_cost(name):
@@ -138,30 +145,52 @@ def number(cell):
         return math.nan
 
 
-def same_values(label, where, name, a, b, scale=0.0, relative=MPI_RELATIVE):
+def compared(where, name, a, b, scale, relative):
+    """[(what, difference, bound)] of one column or dataset; [] for a solver cost."""
     if solver_cost(name):
         return []
     bound = max(MPI_KX_RELATIVE, relative) if name.startswith("kx") else relative
-    d = relative_difference(a, b, scale)
-    if d > bound:
-        return [f"mpi ({label}): {where} {name}: {d:.3g} of its largest magnitude apart "
-                f"(allowed {bound:g})"]
-    return []
+    return [(f"{where} {name}", relative_difference(a, b, scale), bound)]
 
 
-def same_table(label, name, serial, mpi, relative):
-    (h1, r1), (h2, r2) = read_rows(serial), read_rows(mpi)
+def table_columns(header, rows):
+    return {c: [number(r[i]) for r in rows] for i, c in enumerate(header)}
+
+
+# Columns of x alone whose vector has no y column beside them: the stick zone's share of F_x
+# and cycles.csv's amplitudes, round-off for a load along y (Fx_stick 9e-13 N against F_y =
+# 12.7 N on seed 59 case 18, 0.36 to 1.7 of itself apart on two ranks; Fx_amplitude 7.9e-16 N,
+# Ux_amplitude 4.6e-20 m): measured against the run's largest force or shift (run_scales).
+X_ALONE = {"Fx_stick": "F", "Fx_amplitude": "F", "Ux_amplitude": "U"}
+
+
+def run_scales(timeseries):
+    """{column: scale} from a run's timeseries.csv, both in-plane components: the largest force
+    or shift for X_ALONE, and F U of the whole run for a loop energy (LOOP_ENERGY) of
+    cycles.csv, whose Fx_amplitude and Ux_amplitude are round-off for a load along y
+    (loop_area, the loop of F along y, -6e-23 J against F U = 6.4e-8 J and Fx U_x = 2.4e-40 J
+    on seed 55 case 57)."""
+    values = table_columns(*read_rows(timeseries))
+    vector = {c: max(largest(values.get(c + "x")), largest(values.get(c + "y"))) for c in "FU"}
+    out = {name: vector[c] for name, c in X_ALONE.items()}
+    out.update({name: vector["F"] * vector["U"] for name in LOOP_ENERGY})
+    return out
+
+
+def table_differences(name, serial, other, relative, run):
+    """(problems of shape, [(what, difference, bound)]) of two runs' `name` (a CSV file);
+    `run`: the serial run's scales (run_scales)."""
+    (h1, r1), (h2, r2) = read_rows(serial), read_rows(other)
     if h1 != h2:
-        return [f"mpi ({label}): {name} header differs"]
+        return [f"{name} header differs"], []
     if len(r1) != len(r2):
-        return [f"mpi ({label}): {name} has {len(r2)} rows, the serial run {len(r1)}"]
-    a = {c: [number(r[i]) for r in r1] for i, c in enumerate(h1)}
-    b = {c: [number(r[i]) for r in r2] for i, c in enumerate(h1)}
-    problems = []
+        return [f"{name} has {len(r2)} rows, the serial run {len(r1)}"], []
+    a, b = table_columns(h1, r1), table_columns(h1, r2)
+    out = []
     for col in h1:
-        problems += same_values(label, f"{name} column", col, a[col], b[col],
-                                component_scale(a, col), relative)
-    return problems[:2]
+        scale = max(component_scale(a, col), run.get(col, 0.0))
+        out += compared(f"{name} column", col, a[col], b[col], scale, relative)
+    return [], out
 
 
 def numeric_datasets(path):
@@ -182,27 +211,111 @@ def numeric_datasets(path):
     return out
 
 
-def same_datasets(label, serial, mpi, relative):
-    a, b = numeric_datasets(serial), numeric_datasets(mpi)
+# A field of one saved step's group, fields/step_NNNNNN/NAME or wear/snapshot_NNNNNN/NAME: a row
+# of that field's history, as a cell of timeseries.csv is of its column (series/fields/NAME and
+# series/wear/NAME hold the same values and are measured against their largest magnitude over
+# the saved steps). Against the step's own largest value a field that is still small carries
+# the whole run's solver share: the per-node dissipation at the first step of a slip ring
+# (8 nodes, slip ~1/70 of the shift) missed its converged value (solver.tolerance = 1e-14) by
+# 1.3e-10 of itself serially and on two ranks alike at 1e-12, and the two parted by 3e-13 at
+# 1e-14 (seed 58 case 42).
+SAVED_STEP = re.compile(r"(fields/step_|wear/snapshot_)\d+/")
+
+
+def history_of(name):
+    """The name of a saved step's dataset with its step left out (SAVED_STEP), else None."""
+    return SAVED_STEP.sub(r"\1*/", name) if SAVED_STEP.search(name) else None
+
+
+def field_history(values):
+    """{history_of(name): largest magnitude of that field over every saved step}."""
+    out = {}
+    for name, v in values.items():
+        key = history_of(name)
+        if key:
+            out[key] = max(out.get(key, 0.0), largest(v))
+    return out
+
+
+def dataset_scale(values, history, run, name):
+    """component_scale, the run's scale (run_scales) for a copy of a CSV column, and for a
+    saved step's field its history's (and its partner's) largest."""
+    head, _, tail = name.rpartition("/")
+    scale = component_scale(values, name)
+    if head in ("series/timeseries", "series/cycles"):
+        scale = max(scale, run.get(tail, 0.0))
+    key = history_of(name)
+    if key:
+        other = partner(key)
+        scale = max(scale, history.get(key, 0.0), history.get(other, 0.0) if other else 0.0)
+    return scale
+
+
+def dataset_differences(serial, other, relative, run):
+    """(problems of shape, [(what, difference, bound)]) of two runs' result.h5."""
+    a, b = numeric_datasets(serial), numeric_datasets(other)
     if set(a) != set(b):
         missing, extra = sorted(set(a) - set(b))[:2], sorted(set(b) - set(a))[:2]
-        return [f"mpi ({label}): result.h5 datasets differ (missing {missing}, extra {extra})"]
-    problems = []
+        return [f"result.h5 datasets differ (missing {missing}, extra {extra})"], []
+    history = field_history(a)
+    out = []
     for name in sorted(a):
-        problems += same_values(label, f"result.h5 {name}", name.rsplit("/", 1)[-1], a[name],
-                                b[name], component_scale(a, name), relative)
-    return problems[:2]
+        out += compared(f"result.h5 {name}", name.rsplit("/", 1)[-1], a[name], b[name],
+                        dataset_scale(a, history, run, name), relative)
+    return [], out
 
 
-def same_as_serial(label, case, serial, mpi):
-    """The run folder `mpi` against the serial run folder `serial` (the module's bounds)."""
+def differences(case, serial, other):
+    """(problems of shape, [(what, difference, bound)]) of run folder `other` against the
+    serial run folder `serial`: every file, column and dataset at the module's bounds."""
     relative = relative_bound(case)
-    problems = []
+    run = run_scales(os.path.join(serial, "timeseries.csv"))
+    shape, out = [], []
     for name in ("timeseries.csv", "cycles.csv"):
-        problems += same_table(label, name, os.path.join(serial, name), os.path.join(mpi, name),
-                               relative)
-    return problems + same_datasets(label, os.path.join(serial, "result.h5"),
-                                    os.path.join(mpi, "result.h5"), relative)
+        s, d = table_differences(name, os.path.join(serial, name), os.path.join(other, name),
+                                 relative, run)
+        shape, out = shape + s, out + d
+    s, d = dataset_differences(os.path.join(serial, "result.h5"),
+                               os.path.join(other, "result.h5"), relative, run)
+    return shape + s, out + d
+
+
+# The serial run's own move when its solver tolerance is tightened tenfold, column by column
+# (serial_spread): an error-controlled wear run whose wear map changes by a node's stick or
+# slip takes other steps for a perturbation of round-off size, and its rows then part by the
+# integrator's error, not by 1e-10 / wear.rtol. Seed 57 case 11 (arkode, wear.rtol = 1e-2,
+# a worn sphere under indentation control whose stick zone shrinks node by node from N = 146):
+# the serial run at 1e-13 parts from the one at 1e-12 by 2.2e-4 (N) and 1.3e-5 (F_z), the
+# two ranks from the serial run at 1e-12 by 0.65 to 1.6 of that in every column and saved
+# field's history, by up to 35 times it in one wear snapshot (hence by history). The ranks
+# are held to SPREAD_FACTOR times that move: two perturbations of round-off size part the
+# steps alike, and the factor is the room between two such draws.
+SPREAD_FACTOR = 10
+
+
+def serial_spread(case, serial, tighter):
+    """{what: difference} of the serial run at a tenth of its tolerance (`tighter`), a saved
+    step's field by its history's largest (history_of, as its scale), or {} when the two
+    differ in shape (rows, datasets)."""
+    shape, out = differences(case, serial, tighter)
+    spread = {}
+    for what, d, _ in out:
+        key = history_of(what) or what
+        spread[key] = max(spread.get(key, 0.0), d)
+    return {} if shape else spread
+
+
+def same_as_serial(label, case, serial, mpi, spread=None):
+    """The run folder `mpi` against the serial run folder `serial` (the module's bounds, or
+    SPREAD_FACTOR times the serial run's own move, `spread`, where that is larger)."""
+    shape, out = differences(case, serial, mpi)
+    problems = [f"mpi ({label}): {p}" for p in shape]
+    for what, d, bound in out:
+        allowed = max(bound, SPREAD_FACTOR * (spread or {}).get(history_of(what) or what, 0.0))
+        if d > allowed:
+            problems.append(f"mpi ({label}): {what}: {d:.3g} of its largest magnitude apart "
+                            f"(allowed {allowed:g})")
+    return problems[:6]
 
 
 # The files fretbem keeps beside a run's results while it replaces them (src/io/
