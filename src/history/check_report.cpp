@@ -75,9 +75,10 @@ std::string check_report(const Model& m) {
   if (sc.wear.law == WearLaw::none)
     o << "  " << m.path.steps.size() << " load steps (each one normal and one tangential solve)\n";
   o << "  memory: about "
-    << num(std::round(
-           estimate_memory(sc, m.cycle_predictor, predictor_bytes_per_cell(sc, m.path)).total() /
-           (1 << 20)))
+    << num(std::round(estimate_memory(sc, m.cycle_predictor, predictor_bytes_per_cell(sc, m.path),
+                                      repeat_bytes_per_cell(sc, m.path))
+                          .total() /
+                      (1 << 20)))
     << " MiB\n";
   wear_lines(m, o);
   return o.str();

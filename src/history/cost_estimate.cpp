@@ -105,7 +105,8 @@ SubstepForecast forecast_substeps(const Model& model, const Stepper& stepper, st
 
 }  // namespace
 
-MemoryEstimate estimate_memory(const Scenario& sc, bool cycle_predictor, double predictor_bytes) {
+MemoryEstimate estimate_memory(const Scenario& sc, bool cycle_predictor, double predictor_bytes,
+                               double repeat_bytes) {
   const double cells = double(sc.grid.nx) * double(sc.grid.ny);
   const bool two = sc.solver.coupling != Coupling::analogy || sc.load.direction != 0.0 ||
                    sc.load.path == PathType::table;
@@ -120,8 +121,15 @@ MemoryEstimate estimate_memory(const Scenario& sc, bool cycle_predictor, double 
     m.predictor += cells * MemoryCosts::kSubstepPredictorPerByte *
                    std::max(0.0, predictor_bytes - CyclePredictor::kBytesPerCell);
   if (masing_possible(sc, two)) m.masing = cells * MemoryCosts::kMasing;
-  if (sc.wear.law != WearLaw::none) m.wear = cells * MemoryCosts::kWear;
+  if (sc.wear.law != WearLaw::none) m.wear = cells * (MemoryCosts::kWear + repeat_bytes);
   return m;
+}
+
+double repeat_bytes_per_cell(const Scenario& sc, const LoadPath& path) {
+  const bool repeats =
+      sc.wear.law != WearLaw::none && sc.wear.integrator == WearIntegrator::cycle &&
+      sc.solver.coupling == Coupling::coupled && sc.solver.predictor != PredictorMode::none;
+  return repeats ? 3.0 * sizeof(double) * double(path.steps.size() + 1) : 0.0;
 }
 
 ConvolutionMeter::ConvolutionMeter(const HalfSpace& half_space)

@@ -71,6 +71,10 @@ bool onto_new_bound(const Field& g_prev, const Field& g, double eps, VecField& t
 // and what tau still changes is the tangential solver's own tolerance (warm-started from its last
 // solution it ends within tolerance elsewhere: two tractions 7.6e-6 apart in turn, residuals
 // 7.4e-7 and 7.5e-7 at tolerance 1e-6, alternations 8-50 of a worn sphere's step at beta = 0.5).
+// The step's start is the first iterate unless the load changed and
+// the same step one repetition earlier ended closer (coupled_repeat.cpp). Where only the surface
+// changed (a carried cycle's first step, after the cycle's wear) the last step's end is the
+// answer within the tolerances: 1 alternation and 15 convolutions at sweep case 48/18.
 bool Stepper::coupled_step(const LoadStep& ls, StepRecord& rec) {
   HalfSpace& hs = *model_.half_space;
   const SolverSpec& sv = model_.scenario.solver;
@@ -88,6 +92,8 @@ bool Stepper::coupled_step(const LoadStep& ls, StepRecord& rec) {
   }
   const VecField tau0 = state_.traction, u0 = state_.displacement;
   const Field bound0 = bound_, pressure0 = state_.pressure;
+  const bool repeated =
+      !(last_normal_ && *last_normal_ == ls.normal && same_tangential) && start_from_repeat();
   VecField w(2), u0w(2);
   Field uz;
   TangentialResult r;
@@ -108,9 +114,7 @@ bool Stepper::coupled_step(const LoadStep& ls, StepRecord& rec) {
     solve_normal(ls, model_.surface - uz, rec);
     if (it > 1 && model_.friction->evolves()) carry_bound(g_prev, p_prev, state_.pressure, bound_);
     normal_iterations += rec.normal_iterations;
-    if (it > 1 &&
-        hs.communicator().any(onto_new_bound(g_prev, bound_, sv.tolerance, state_.traction)))
-      model_.tangential_operator->apply(state_.traction, state_.displacement);
+    if (it > 1 || repeated) onto_alternation_bound(it > 1 ? &g_prev : nullptr);
     hs.tangential_of_pressure(state_.pressure, w[0], w[1]);
     for (int c = 0; c < 2; ++c) u0w[c] = u0[c] - (w[c] - pressure_slip_[c]);
     bound_start_ = bound0, pressure_start_ = pressure0;  // settle_bound's start of the step
@@ -124,21 +128,10 @@ bool Stepper::coupled_step(const LoadStep& ls, StepRecord& rec) {
     if (it > 1 && rec.normal_iterations == 0 && dp <= tol && floor <= tol) break;
     const bool settles = model_.friction->settles_within_step();
     floor = settles && rec.coupling_residual > 10 * tol ? 0.1 * rec.coupling_residual : 0.0;
-    if (it >= sv.coupling_iterations) {
-      std::ostringstream msg;
-      msg << "normal-tangential coupling did not converge (solver.coupling = coupled, beta = "
-          << model_.scenario.material.dundurs_beta() << "): after " << it
-          << " alternations the pressure still changed by " << dp << " and the traction by " << dt
-          << " (relative) > " << tol << " (solver.coupling_tolerance)"
-          << "; raise solver.coupling_iterations or the tolerance";
-      FailedSolve f;
-      f.solve = "coupling";
-      f.surface = model_.surface, f.pressure_start = state_.pressure, f.bound = bound_;
-      f.tau0 = tau0, f.u0 = u0;
-      fail(rec, SolverError(msg.str()), std::move(f));
-    }
+    if (it >= sv.coupling_iterations) fail_coupling(rec, it, dp, dt, tau0, u0);
   }
   pressure_slip_ = w;
+  remember_repeat();
   set_target(ls, probe);  // relative force targets follow the converged F_z
   last_target_ = probe.target;
   bound_start_ = bound0;
@@ -150,6 +143,38 @@ bool Stepper::coupled_step(const LoadStep& ls, StepRecord& rec) {
   state_.shift += model_.tangential_operator->to_global(r.shift);
   accumulate_slip(u0w, &tau0, r.shift, rec);
   return true;
+}
+
+// The alternation's failure: where it stopped, by how much, and the state to reproduce it.
+void Stepper::fail_coupling(StepRecord& rec, int alternations, double dp, double dt,
+                            const VecField& tau0, const VecField& u0) {
+  std::ostringstream msg;
+  msg << "normal-tangential coupling did not converge (solver.coupling = coupled, beta = "
+      << model_.scenario.material.dundurs_beta() << "): after " << alternations
+      << " alternations the pressure still changed by " << dp << " and the traction by " << dt
+      << " (relative) > " << model_.scenario.solver.coupling_tolerance
+      << " (solver.coupling_tolerance)"
+      << "; raise solver.coupling_iterations or the tolerance";
+  FailedSolve f;
+  f.solve = "coupling";
+  f.surface = model_.surface, f.pressure_start = state_.pressure, f.bound = bound_;
+  f.tau0 = tau0, f.u0 = u0;
+  fail(rec, SolverError(msg.str()), std::move(f));
+}
+
+// The tractions the alternation starts its tangential solve from, put onto the bound its normal
+// solve just set: those the last alternation left on `g_prev` (onto_new_bound), or, without one
+// (the first alternation from the same step one repetition earlier, whose bound is not kept),
+// those just inside the new bound (CyclePredictor::onto_moved_bound says why); their
+// displacement C tau again when one moved.
+void Stepper::onto_alternation_bound(const Field* g_prev) {
+  const Communicator& comm = model_.half_space->communicator();
+  if (!g_prev)
+    CyclePredictor::onto_moved_bound(bound_, comm.max(bound_.maxCoeff()), state_.traction);
+  else if (!comm.any(
+               onto_new_bound(*g_prev, bound_, model_.scenario.solver.tolerance, state_.traction)))
+    return;
+  model_.tangential_operator->apply(state_.traction, state_.displacement);
 }
 
 // One tangential increment of an alternation, warm-started from the last one's traction; a

@@ -123,15 +123,18 @@ bool use_cycle_predictor(const Scenario& sc, const LoadPath& path) {
   const std::vector<char> later = CyclePredictor::repeated_later(path.steps);
   if (std::find(later.begin(), later.end(), 1) == later.end()) return false;
   const double have = usable_memory_bytes();
-  return have <= 0 || estimate_memory(sc, true, predictor_bytes_per_cell(sc, path)).total() <= have;
+  return have <= 0 || estimate_memory(sc, true, predictor_bytes_per_cell(sc, path),
+                                      repeat_bytes_per_cell(sc, path))
+                              .total() <= have;
 }
 
 // Against what the process may use: inside a batch job (Slurm, containers) the cgroup limit is
 // smaller than the node's RAM, and exceeding it kills the job instead of failing cleanly.
 void check_memory(const Scenario& sc, const LoadPath& path, bool cycle_predictor) {
   const double have = usable_memory_bytes();
-  const double need =
-      estimate_memory(sc, cycle_predictor, predictor_bytes_per_cell(sc, path)).total();
+  const double need = estimate_memory(sc, cycle_predictor, predictor_bytes_per_cell(sc, path),
+                                      repeat_bytes_per_cell(sc, path))
+                          .total();
   if (have <= 0 || need <= have) return;  // unknown: let the allocator decide
   std::ostringstream msg;
   msg.precision(3);

@@ -70,6 +70,7 @@ StepperMemory Stepper::memory() const {
     }
   }
   save_step_before(m);
+  save_repeats(m);
   for (std::size_t c = 0; c < pressure_slip_.size(); ++c)
     m.fields["pressure_slip" + std::to_string(c)] = pressure_slip_[c];
   if (shortcut_p_star_.size() > 0) m.fields["shortcut_p_star"] = shortcut_p_star_;
@@ -100,6 +101,7 @@ void Stepper::restore(const InterfaceState& state, const StepperMemory& m,
   wear_volume_ = m.wear_volume;
   restore_estimate_memory(m);
   restore_step_before(m);
+  restore_repeats(m);
   pressure_slip_.clear();
   const auto w0 = m.fields.find("pressure_slip0"), w1 = m.fields.find("pressure_slip1");
   if (w0 != m.fields.end() && w1 != m.fields.end()) pressure_slip_ = {w0->second, w1->second};

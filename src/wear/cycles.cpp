@@ -127,6 +127,8 @@ WearCycles::WearCycles(Model& model, Stepper& stepper, std::vector<Observer*> ob
   // end wore 29 % more than cycle mode's periodic cycle).
   if (settles_) steady_ = rotated(cycle_, turn_);
   carries_loop_ = settles_ && model.half_space->cross_coupled();
+  repeats_ =
+      model.half_space->cross_coupled() && model.scenario.solver.predictor != PredictorMode::none;
   // Masing's image needs the virgin curve from the traction-free state to the turning point:
   // one monotone step (merged), and tractions collinear with the load.
   masing_ = !settles_ && virgin_.size() == 1 && model.tangential_operator->components() == 1;
@@ -199,8 +201,11 @@ void WearCycles::fresh(const Field& worn, const Field& pressure) {
   stepper_.restore(s, m);
 }
 
+// Under solver.coupling = coupled (unless solver.predictor = none) each step of the carried
+// cycle is a repeat slot of the stepper: its alternation starts from where the same step ended
+// one cycle earlier (coupled_repeat.cpp).
 WearCycle WearCycles::carried(double N) {
-  WearCycle c = measure(N, cycle_, double(index_));
+  WearCycle c = measure(N, cycle_, double(index_), repeats_);
   simulated_ += 1.0;
   c.simulated = simulated_;
   return c;
@@ -407,13 +412,18 @@ void WearCycles::apply(const Field& rate) {
 // Runs `steps` (row times shifted by t_shift) and measures the cycle (CycleMeter,
 // history/cycle_summary.hpp): its worn depth is the growth of the stepper's worn-depth field
 // over these steps.
-WearCycle WearCycles::measure(double N, const std::vector<LoadStep>& steps, double t_shift) {
+WearCycle WearCycles::measure(double N, const std::vector<LoadStep>& steps, double t_shift,
+                              bool repeat) {
   const InterfaceState& s = stepper_.state();
   const Field wear0 = s.wear;
   const Field worn = this->worn();
   CycleMeter meter(stepper_.memory().dissipation, s.slip_path, comm());
   stepper_.set_wear_cycle(N);  // named in a solver failure's message
-  for (const auto& ls : steps) meter.add(step(ls, ls.time + t_shift, true), s, ls.time);
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    stepper_.set_repeat_slot(repeat ? int(k) : -1);
+    meter.add(step(steps[k], steps[k].time + t_shift, true), s, steps[k].time);
+  }
+  stepper_.set_repeat_slot(-1);
   const CycleMeasures m = meter.finish(stepper_.memory().dissipation, s);
   WearCycle c;
   c.N = N;

@@ -65,14 +65,8 @@ ODE_REFERENCE_MAX_N = 200
 
 # Defects known and open: a failure matching one is labelled so, to tell it from a new one. Each
 # entry: (label, test on (case, problem text)); the labels of fixed defects are removed, so that
-# their return is labelled NEW. Cycle-by-cycle wear under `coupled` pays every step's 7-9
-# alternations in every cycle (seed 48 case 18: ~1500 convolutions a step at n = 24, cycle 110
-# of 200 after 60 s; docs/reliability.md, "Still unprotected").
-KNOWN_DEFECTS = [
-    ("coupled cycle-by-cycle wear past the CPU limit",
-     lambda c, p: p.startswith("hang") and c.is_wear()
-     and c.get("solver.coupling") == "coupled" and c.get("wear.integrator") == "cycle"),
-]
+# their return is labelled NEW. None open (docs/reliability.md, "Combination sweep").
+KNOWN_DEFECTS = []
 
 
 class Run:

@@ -79,9 +79,17 @@ struct MemoryCosts {
 /// resolves solver.predictor for its path, `predictor_bytes` the predictor's memory bound
 /// (bytes per cell, predictor_bytes_per_cell of the path): its part above
 /// CyclePredictor::kBytesPerCell (remembered sub-steps) adds MemoryCosts::kSubstepPredictorPerByte
-/// times itself to MemoryCosts::kPredictor.
+/// times itself to MemoryCosts::kPredictor. `repeat_bytes` (bytes per cell,
+/// repeat_bytes_per_cell of the path) adds to the wear share.
 MemoryEstimate estimate_memory(const Scenario& sc, bool cycle_predictor,
-                               double predictor_bytes = CyclePredictor::kBytesPerCell);
+                               double predictor_bytes = CyclePredictor::kBytesPerCell,
+                               double repeat_bytes = 0.0);
+
+/// The ends of a carried wear cycle's steps that its coupled steps start from one cycle later
+/// (Stepper::set_repeat_slot: cycle-by-cycle wear, solver.coupling = coupled, solver.predictor
+/// not none), bytes per grid cell: two traction components and the pressure in doubles for
+/// each step of a period, at most the path's steps and the period's closing step; 0 otherwise.
+double repeat_bytes_per_cell(const Scenario& sc, const LoadPath& path);
 
 /// CPU seconds and FFT convolutions of a half-space since construction: the one measurement the
 /// calibrations (a stepped run's here, a wear run's in wear/cost_estimate.hpp) extrapolate.

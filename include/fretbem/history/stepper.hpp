@@ -31,8 +31,10 @@ struct StepperMemory {
   /// the Coulomb bound g (Pa) the last step ended with (computed from the state at the start
   /// of that step's normal solve, so not recomputable from the state after it: a friction law
   /// that depends on the state, static_kinetic or evolving, gives another g), and under
-  /// Coupling::coupled "pressure_slip0"/"pressure_slip1" (m). Empty: restore recomputes the
-  /// bound from the state (a fresh start, or a checkpoint written without them).
+  /// Coupling::coupled "pressure_slip0"/"pressure_slip1" (m) and, in carried wear cycles,
+  /// "repeat_end<slot>_<c>" (Pa: the traction components, then the pressure; set_repeat_slot).
+  /// Empty: restore recomputes the bound from the state (a fresh start, or a checkpoint written
+  /// without them).
   std::map<std::string, Field> fields;
   /// MasingImage::flatten of the stepper's Masing image (empty: none recorded).
   std::vector<double> masing;
@@ -77,6 +79,11 @@ class Stepper {
   void surface_changed() { surface_changed_ = true; }
   /// Wear runs: the wear cycle N being simulated, named when a solve fails.
   void set_wear_cycle(double N) { wear_cycle_ = N; }
+  /// Under Coupling::coupled: the steps advanced next are step `slot` (>= 0) of a sequence the
+  /// caller repeats (a carried wear cycle's steps); a coupled step whose load changed starts its
+  /// alternation from the pressure and traction the same slot ended with one repetition
+  /// earlier, and remembers its own end for the next (coupled_repeat.cpp). -1: none.
+  void set_repeat_slot(int slot) { repeat_slot_ = slot; }
 
   const InterfaceState& state() const { return state_; }
   /// Restart support: the complete state after the last finished step, and its restoration
@@ -94,6 +101,9 @@ class Stepper {
   void solve_normal(const LoadStep& ls, const Field& z, StepRecord& rec);
   void set_target(const LoadStep& ls, TangentialIncrement& inc) const;
   bool coupled_step(const LoadStep& ls, StepRecord& rec);
+  void onto_alternation_bound(const Field* g_prev);
+  [[noreturn]] void fail_coupling(StepRecord& rec, int alternations, double dp, double dt,
+                                  const VecField& tau0, const VecField& u0);
   TangentialResult coupled_tangential(const LoadStep& ls, const VecField& tau0, const VecField& u0,
                                       StepRecord& rec, double floor);
   bool friction_step();
@@ -159,6 +169,10 @@ class Stepper {
   void end_step_before(const LoadStep& ls);
   void save_step_before(StepperMemory& m) const;
   void restore_step_before(const StepperMemory& m);
+  bool start_from_repeat();
+  void remember_repeat();
+  void save_repeats(StepperMemory& m) const;
+  void restore_repeats(const StepperMemory& m);
 
   Model& model_;
   InterfaceState state_;
@@ -218,6 +232,10 @@ class Stepper {
   /// Coupling::coupled: tangential displacement (m) of the pressure at the end of the last
   /// step (the start of this one); empty until first needed (and after a restore).
   VecField pressure_slip_;
+  int repeat_slot_ = -1;  ///< set_repeat_slot
+  /// Per repeat slot: the traction components (Pa) and the pressure (Pa) its last coupled step
+  /// ended with (checkpointed; empty until that step ran once).
+  std::vector<VecField> repeat_ends_;
   /// Advancing a sub-step of a row before its last: no kx and no edge-contact refusal (the
   /// row's end has both).
   bool substep_ = false;

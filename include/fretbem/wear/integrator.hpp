@@ -207,7 +207,9 @@ class WearCycles {
   StepRecord step(const LoadStep& ls, double time, bool emit);
   const VecField* start_of(const LoadStep& ls) const;
   void superpose_virgin();
-  WearCycle measure(double N, const std::vector<LoadStep>& steps, double t_shift);
+  /// `repeat`: each step is the stepper's repeat slot of its index (carried cycles).
+  WearCycle measure(double N, const std::vector<LoadStep>& steps, double t_shift,
+                    bool repeat = false);
 
   Model& model_;
   Stepper& stepper_;
@@ -218,6 +220,8 @@ class WearCycles {
   bool settles_ = false;         // the steady loop is run until it repeats (not closed at once)
   bool carries_loop_ = false;    // coupled: steady() starts from the last loop's end
   bool holds_loop_end_ = false;  // the stepper holds the end of a steady or continued loop
+  // coupled, solver.predictor != none: a carried cycle's steps are the stepper's repeat slots
+  bool repeats_ = false;
   double simulated_ = 0.0;
   int evaluations_ = 0, row_ = 0, index_ = 0;
   WearWarmStart warm_;
