@@ -63,10 +63,9 @@ double implicit_middle(double N, double per_evaluation, double a_over_h, double 
 }
 constexpr double kImplicitRange[2] = {0.45, 2.5};
 
-// The wear of the run's first step, in cycles: one cycle in cycle mode, else the first step
-// ARKODE tries (arkode_stepper.cpp, create: the stability cap, or a hundredth of the run).
+// The wear of the ODE integrators' first step, in cycles: the first step ARKODE tries
+// (arkode_stepper.cpp, create: the stability cap, or a hundredth of the run).
 double first_step(const WearSpec& w, double cap) {
-  if (w.integrator == WearIntegrator::cycle) return 1.0;
   return std::min({cap, w.cycles, std::max(1.0, 0.01 * w.cycles)});
 }
 
@@ -91,16 +90,45 @@ SimulatedCycles expected_simulated_cycles(const Scenario& sc, bool implicit, dou
   return {std::min(most, kImplicitRange[0] * middle), std::min(most, kImplicitRange[1] * middle)};
 }
 
+namespace {
+
+// Cycle mode: the cycles the run simulates, each carried from the last one's end on the
+// surface the last one wore (under `coupled` each step from the same step one cycle earlier),
+// calibrated on the third. Their loop need not repeat (an evolving mu drifts cycle by cycle, so
+// steady() would not settle), and the run never asks it to. Returns the first cycle.
+WearCycle calibrate_carried(WearCycles& cycles, const HalfSpace& hs, WearCostEstimate& e) {
+  cycles.start();
+  const WearCycle c0 = cycles.carried(0.0);
+  cycles.apply(c0.rate);
+  cycles.apply(cycles.carried(1.0).rate);
+  const ConvolutionMeter meter(hs);
+  const double simulated0 = cycles.simulated();
+  cycles.carried(2.0);
+  const double cycles_measured = cycles.simulated() - simulated0;
+  e.convolutions_per_cycle = meter.convolutions() / cycles_measured;
+  e.seconds_per_cycle = meter.seconds() / cycles_measured;
+  return c0;
+}
+
+}  // namespace
+
 WearCostEstimate estimate_wear_cost(const Scenario& sc) {
   WearCostEstimate e;
   const double cpu0 = process_cpu_seconds();
   auto model = build_model(sc);
   Stepper stepper(*model);
   WearCycles cycles(*model, stepper);
+  const WearSpec& w = sc.wear;
+  if (w.integrator == WearIntegrator::cycle) {
+    const WearCycle c0 = calibrate_carried(cycles, *model->half_space, e);
+    e.cap = explicit_step_cap(*model, c0.max_slip);
+    e.simulated_low = e.simulated_high = expected_simulated_cycles(sc, false, e.cap, 1.0, c0).low;
+    e.calibration_seconds = process_cpu_seconds() - cpu0;
+    return e;
+  }
   cycles.start();
   const WearCycle c0 = cycles.steady(0.0, model->half_space->local_zeros());
   e.cap = explicit_step_cap(*model, c0.max_slip);
-  const WearSpec& w = sc.wear;
   require_ode_cap(w, e.cap);
   // A run's evaluations start from the previous evaluation's solves (docs/wear.md, "Where an
   // evaluation's solves start"), the cold first one costs 2-3 times more: the cost is
@@ -141,8 +169,9 @@ std::string describe(const WearCostEstimate& e, const WearSpec& w) {
        (e.simulated_low == e.simulated_high
             ? std::string()
             : " to " + num(e.seconds_per_cycle * e.simulated_high, "%.2g")) +
-       " s of CPU (from two steady cycles solved in " + num(e.calibration_seconds, "%.2g") +
-       " s)\n";
+       " s of CPU (from " +
+       (w.integrator == WearIntegrator::cycle ? "three carried cycles" : "two steady cycles") +
+       " solved in " + num(e.calibration_seconds, "%.2g") + " s)\n";
   if (const std::string warn = explicit_cap_warning(w, e.cap); !warn.empty())
     o += "  " + warn + "\n";
   return o;

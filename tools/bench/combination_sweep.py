@@ -8,6 +8,7 @@ judged:
 
   refused  exit 2 with one line naming the problem: a combination the program does not take
   pass     exit 0 and every invariant of combo_invariants.py holds on the outputs, and
+           - `fretbem check` of the scenario exits 0 (its cost estimate included)
            - `--stop-after K` then `--resume`, or SIGTERM (at once, once the output folder
              exists, i.e. in step 0, or once the time series has k rows) then `--resume`:
              the uninterrupted run's rows and field groups
@@ -601,6 +602,16 @@ def write_case(case, cwd):
             f.write(data)
 
 
+def check_agrees(binary, cwd, runs):
+    """`fretbem check` takes what `run` finished: exit 0, no error line (README, "check": the
+    same validation, then a calibrated cost estimate on the run's own solves)."""
+    check = fretbem(binary, ["check", "scenario.ini"], cwd)
+    runs.append(check)
+    if check.code == 0 and not error_lines(check.err):
+        return []
+    return exit_problems(check, "check") or [f"check: {first_line(check.err)}"]
+
+
 def judge_case(binary, case, cwd):
     """Runs a case; returns (outcome, problems, runs)."""
     write_case(case, cwd)
@@ -613,6 +624,7 @@ def judge_case(binary, case, cwd):
     problems += exit_problems(plain, "run") if not is_refusal(plain) else []
     if not problems:
         problems = finished_problems(case, cwd, "plain") + steps_pair(binary, case, cwd, runs)
+        problems += check_agrees(binary, cwd, runs)
         if case.is_wear():
             problems += ode_against_cycle(binary, case, cwd, runs)
         if case.mode == "stop":
