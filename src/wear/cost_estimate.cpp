@@ -92,22 +92,52 @@ SimulatedCycles expected_simulated_cycles(const Scenario& sc, bool implicit, dou
 
 namespace {
 
+// What a calibration measured: the first cycle (its slip sets the stability cap) and the
+// simulated cycles of one wear-map evaluation (1 in cycle mode).
+struct Calibrated {
+  WearCycle first;
+  double per_evaluation = 1.0;
+};
+
 // Cycle mode: the cycles the run simulates, each carried from the last one's end on the
 // surface the last one wore (under `coupled` each step from the same step one cycle earlier),
 // calibrated on the third. Their loop need not repeat (an evolving mu drifts cycle by cycle, so
-// steady() would not settle), and the run never asks it to. Returns the first cycle.
-WearCycle calibrate_carried(WearCycles& cycles, const HalfSpace& hs, WearCostEstimate& e) {
+// steady() would not settle), and the run never asks it to.
+Calibrated calibrate_carried(WearCycles& cycles, const Model& model, WearCostEstimate& e) {
   cycles.start();
-  const WearCycle c0 = cycles.carried(0.0);
-  cycles.apply(c0.rate);
+  Calibrated c{cycles.carried(0.0)};
+  cycles.apply(c.first.rate);
+  e.cap = explicit_step_cap(model, c.first.max_slip);
   cycles.apply(cycles.carried(1.0).rate);
-  const ConvolutionMeter meter(hs);
+  const ConvolutionMeter meter(*model.half_space);
   const double simulated0 = cycles.simulated();
   cycles.carried(2.0);
-  const double cycles_measured = cycles.simulated() - simulated0;
-  e.convolutions_per_cycle = meter.convolutions() / cycles_measured;
-  e.seconds_per_cycle = meter.seconds() / cycles_measured;
-  return c0;
+  const double measured = cycles.simulated() - simulated0;
+  e.convolutions_per_cycle = meter.convolutions() / measured;
+  e.seconds_per_cycle = meter.seconds() / measured;
+  return c;
+}
+
+// The ODE integrators: the steady cycle of the unworn surface, then, as the run's evaluations
+// start from the previous evaluation's solves (docs/wear.md, "Where an evaluation's solves
+// start") and the cold first one costs 2-3 times more, the second evaluation, on the surface
+// worn by the run's first step, is the one calibrated on.
+Calibrated calibrate_steady(WearCycles& cycles, const Model& model, WearCostEstimate& e) {
+  const WearSpec& w = model.scenario.wear;
+  cycles.start();
+  Calibrated c{cycles.steady(0.0, model.half_space->local_zeros())};
+  e.cap = explicit_step_cap(model, c.first.max_slip);
+  require_ode_cap(w, e.cap);
+  const ConvolutionMeter meter(*model.half_space);
+  const double simulated0 = cycles.simulated();
+  cycles.steady(0.0, c.first.rate * first_step(w, e.cap));
+  // Simulated cycles of one steady cycle (the ODE right-hand side): to the first turning point
+  // from a traction-free state, then one period (docs/wear.md).
+  c.per_evaluation = cycles.simulated() - simulated0;
+  e.convolutions_per_cycle = kWarmCostFactor * meter.convolutions() / c.per_evaluation;
+  e.seconds_per_cycle = kWarmCostFactor * meter.seconds() / c.per_evaluation;
+  e.implicit = runs_implicit(w.integrator, w.cycles, e.cap, cycles.simulated());
+  return c;
 }
 
 }  // namespace
@@ -118,33 +148,11 @@ WearCostEstimate estimate_wear_cost(const Scenario& sc) {
   auto model = build_model(sc);
   Stepper stepper(*model);
   WearCycles cycles(*model, stepper);
-  const WearSpec& w = sc.wear;
-  if (w.integrator == WearIntegrator::cycle) {
-    const WearCycle c0 = calibrate_carried(cycles, *model->half_space, e);
-    e.cap = explicit_step_cap(*model, c0.max_slip);
-    e.simulated_low = e.simulated_high = expected_simulated_cycles(sc, false, e.cap, 1.0, c0).low;
-    e.calibration_seconds = process_cpu_seconds() - cpu0;
-    return e;
-  }
-  cycles.start();
-  const WearCycle c0 = cycles.steady(0.0, model->half_space->local_zeros());
-  e.cap = explicit_step_cap(*model, c0.max_slip);
-  require_ode_cap(w, e.cap);
-  // A run's evaluations start from the previous evaluation's solves (docs/wear.md, "Where an
-  // evaluation's solves start"), the cold first one costs 2-3 times more: the cost is
-  // calibrated on the second evaluation, on the surface worn by the run's first step.
-  const ConvolutionMeter meter(*model->half_space);
-  const double simulated0 = cycles.simulated();
-  cycles.steady(0.0, c0.rate * first_step(w, e.cap));
-  // Simulated cycles of one steady cycle (the ODE right-hand side): to the first turning point
-  // from a traction-free state, then one period (docs/wear.md).
-  const double per_evaluation = cycles.simulated() - simulated0;
-  e.convolutions_per_cycle = kWarmCostFactor * meter.convolutions() / per_evaluation;
-  e.seconds_per_cycle = kWarmCostFactor * meter.seconds() / per_evaluation;
-  const double N = w.cycles;
-  e.implicit = runs_implicit(w.integrator, N, e.cap, cycles.simulated());
+  const Calibrated c = sc.wear.integrator == WearIntegrator::cycle
+                           ? calibrate_carried(cycles, *model, e)
+                           : calibrate_steady(cycles, *model, e);
   const SimulatedCycles range =
-      expected_simulated_cycles(sc, e.implicit, e.cap, per_evaluation, c0);
+      expected_simulated_cycles(sc, e.implicit, e.cap, c.per_evaluation, c.first);
   e.simulated_low = range.low, e.simulated_high = range.high;
   e.calibration_seconds = process_cpu_seconds() - cpu0;
   return e;

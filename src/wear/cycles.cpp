@@ -141,11 +141,11 @@ const Communicator& WearCycles::comm() const {
   return model_.half_space->communicator();
 }
 
-// Over the grid's ranks; -inf for an empty slab.
 double WearCycles::volume(const Field& worn) const {
   return comm().sum(worn.sum()) * model_.scenario.grid.cell_area();
 }
 
+// Over the grid's ranks; -inf for an empty slab.
 double WearCycles::largest(const Field& x) const {
   return comm().max(x.size() ? x.maxCoeff() : -HUGE_VAL);
 }
