@@ -108,28 +108,6 @@ int count(const std::string& text, const std::string& what) {
   return n;
 }
 
-// A CSV file as columns of numbers by header name (NaN for an empty or non-numeric cell).
-std::map<std::string, std::vector<double>> columns(const fs::path& csv) {
-  std::istringstream in(fretbem_test::read_text(csv));
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> head;
-  std::stringstream hs(line);
-  for (std::string c; std::getline(hs, c, ',');) head.push_back(c);
-  std::map<std::string, std::vector<double>> out;
-  while (std::getline(in, line)) {
-    std::stringstream cells(line);
-    std::string c;
-    for (std::size_t i = 0; i < head.size(); ++i) {
-      if (!std::getline(cells, c, ',')) c.clear();
-      char* end = nullptr;
-      const double v = std::strtod(c.c_str(), &end);
-      out[head[i]].push_back(end != c.c_str() ? v : NAN);
-    }
-  }
-  return out;
-}
-
 // Largest |a - b| relative to the largest |a| (NaN agrees with NaN only).
 double relative_difference(const std::vector<double>& a, const std::vector<double>& b) {
   if (a.size() != b.size()) return INFINITY;
@@ -146,7 +124,7 @@ double relative_difference(const std::vector<double>& a, const std::vector<doubl
 }
 
 void expect_same_table(const fs::path& serial, const fs::path& mpi, double kx_bound = kRelative) {
-  const auto a = columns(serial), b = columns(mpi);
+  const auto a = fretbem_test::csv_columns(serial), b = fretbem_test::csv_columns(mpi);
   ASSERT_FALSE(a.empty()) << serial;
   ASSERT_EQ(a.size(), b.size()) << mpi;
   for (const auto& [name, values] : a) {
@@ -325,7 +303,7 @@ std::string sine_table_scenario(const fs::path& d, int rows, const std::string& 
 
 // Column `name` of DIR/cycles.csv.
 std::vector<double> cycle_column(const fs::path& dir, const std::string& name) {
-  return columns(dir / "cycles.csv")[name];
+  return fretbem_test::csv_columns(dir / "cycles.csv")[name];
 }
 
 // slip_area_at_peak of each cycle c is the slip area of its first turning point of largest
@@ -333,7 +311,7 @@ std::vector<double> cycle_column(const fs::path& dir, const std::string& name) {
 // +0.5 mu P at t = c + 1), a count of nodes times the cell area, equal exactly to the serial
 // run's in `serial`.
 void expect_first_peak(const fs::path& serial, const fs::path& dir) {
-  auto ts = columns(dir / "timeseries.csv");
+  auto ts = fretbem_test::csv_columns(dir / "timeseries.csv");
   const auto peaks = cycle_column(dir, "slip_area_at_peak"), cycle = cycle_column(dir, "cycle");
   ASSERT_FALSE(peaks.empty()) << dir;
   EXPECT_EQ(peaks, cycle_column(serial, "slip_area_at_peak")) << dir;

@@ -11,8 +11,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -66,22 +64,10 @@ double largest(const Field& x) {
 
 // Column `column` of every data row of a CSV file.
 std::vector<double> column_values(const fs::path& csv, const std::string& column) {
-  std::ifstream in(csv);
-  std::string header, line;
-  std::getline(in, header);
-  std::stringstream h(header);
-  long at = -1, c = 0;
-  for (std::string name; std::getline(h, name, ','); ++c)
-    if (name == column) at = c;
-  std::vector<double> out;
-  while (std::getline(in, line)) {
-    std::stringstream v(line);
-    std::string cell;
-    for (long k = 0; std::getline(v, cell, ','); ++k)
-      if (k == at) out.push_back(std::stod(cell));
-  }
-  EXPECT_GE(at, 0) << column << " not in " << csv;
-  return out;
+  auto table = fretbem_test::csv_columns(csv);
+  const auto c = table.find(column);
+  EXPECT_NE(c, table.end()) << column << " not in " << csv;
+  return c == table.end() ? std::vector<double>{} : c->second;
 }
 
 // The last data row's value in column `column` of a CSV file.
@@ -212,26 +198,6 @@ TEST(WearCoupled, RunMatchesCycleModeAndResumesAsUninterrupted) {
   }
 }
 
-namespace {
-
-// Every data row of a CSV file as {column name: value}.
-std::vector<std::map<std::string, double>> csv_rows(const fs::path& csv) {
-  std::ifstream in(csv);
-  std::string header, line;
-  std::getline(in, header);
-  std::vector<std::map<std::string, double>> rows;
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    std::stringstream h(header), v(line);
-    auto& row = rows.emplace_back();
-    for (std::string name, cell; std::getline(h, name, ',') && std::getline(v, cell, ',');)
-      row[name] = std::stod(cell);
-  }
-  return rows;
-}
-
-}  // namespace
-
 // A rigid sphere on a half-space of nu = 0 (Dundurs beta = 1/2), n = 24, F_z = 3.2 N +-30 %
 // with F_x up to 0.29 N (0.3 mu F_z) on eight rows a period, the energy law under dirk
 // (combination sweep seed 59 case 22). At wear cycle N = 1, step 1, the alternations' normal
@@ -267,24 +233,23 @@ TEST(WearCoupled, AlternationEndsWhenThePressureStands) {
   const auto r = fretbem_test::run_fretbem("run " + ini.string() + " --quiet --out " + out.string(),
                                            "standing_pressure");
   ASSERT_EQ(r.status, 0) << r.err;
-  double integral = 0.0, volume = 0.0;
-  const std::map<std::string, double>* prev = nullptr;
-  const auto cycles = csv_rows(out / "cycles.csv");
-  for (const auto& row : cycles) {
-    if (row.at("accepted") != 1.0) continue;
-    if (prev)
-      integral += 0.5 * (prev->at("energy_per_cycle") + row.at("energy_per_cycle")) *
-                  (row.at("N") - prev->at("N"));
-    prev = &row, volume = row.at("wear_volume");
+  auto cycles = fretbem_test::csv_columns(out / "cycles.csv");
+  double integral = 0.0, volume = 0.0, N = NAN, E = NAN;
+  for (std::size_t k = 0; k < cycles["N"].size(); ++k) {
+    if (cycles["accepted"][k] != 1.0) continue;
+    if (!std::isnan(N))
+      integral += 0.5 * (E + cycles["energy_per_cycle"][k]) * (cycles["N"][k] - N);
+    N = cycles["N"][k], E = cycles["energy_per_cycle"][k], volume = cycles["wear_volume"][k];
   }
-  ASSERT_NE(prev, nullptr);
-  EXPECT_EQ(prev->at("N"), 21.0);
+  ASSERT_FALSE(std::isnan(N));
+  EXPECT_EQ(N, 21.0);
   std::printf("[ coupled ] N = 21: wear volume %.6g m^3, alpha x integral of E dN %.6g\n", volume,
               alpha * integral);
   EXPECT_LE(std::abs(volume - alpha * integral), 10.0 * rtol * alpha * integral);
-  for (const auto& row : csv_rows(out / "timeseries.csv"))
-    EXPECT_LE(std::hypot(row.at("Fx"), row.at("Fy")), mu * row.at("Fz") * (1.0 + 10.0 * tol))
-        << "step " << row.at("step");
+  auto rows = fretbem_test::csv_columns(out / "timeseries.csv");
+  for (std::size_t k = 0; k < rows["step"].size(); ++k)
+    EXPECT_LE(std::hypot(rows["Fx"][k], rows["Fy"][k]), mu * rows["Fz"][k] * (1.0 + 10.0 * tol))
+        << "step " << rows["step"][k];
 }
 
 // Cycle-by-cycle wear under beta = 1/2: from the step's start (the last step's end) each step

@@ -1,11 +1,15 @@
 // Output files as text, for byte-for-byte comparisons of runs (resumed against uninterrupted,
-// with an option against without it). Header-only.
+// with an option against without it), and as columns of numbers. Header-only.
 #pragma once
 
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace fretbem_test {
 
@@ -43,6 +47,28 @@ inline std::string differing_tables(const std::filesystem::path& a, const std::f
     if (x.empty() || x != without_column(b / f, name)) return f;
   }
   return "";
+}
+
+/// A CSV file as columns of numbers by header name (NaN for an empty or non-numeric cell).
+inline std::map<std::string, std::vector<double>> csv_columns(const std::filesystem::path& csv) {
+  std::istringstream in(read_text(csv));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> head;
+  std::stringstream hs(line);
+  for (std::string c; std::getline(hs, c, ',');) head.push_back(c);
+  std::map<std::string, std::vector<double>> out;
+  while (std::getline(in, line)) {
+    std::stringstream cells(line);
+    std::string c;
+    for (std::size_t i = 0; i < head.size(); ++i) {
+      if (!std::getline(cells, c, ',')) c.clear();
+      char* end = nullptr;
+      const double v = std::strtod(c.c_str(), &end);
+      out[head[i]].push_back(end != c.c_str() ? v : NAN);
+    }
+  }
+  return out;
 }
 
 }  // namespace fretbem_test
