@@ -17,6 +17,7 @@
 #include "fretbem/history/cycle_summary.hpp"
 #include "fretbem/history/resolution.hpp"
 #include "support/cli.hpp"
+#include "support/csv_text.hpp"
 #include "support/hertz.hpp"
 
 using namespace fretbem;
@@ -308,29 +309,15 @@ Result run_varying_normal_table(const std::string& name, int w, const fs::path& 
 // slipping node, and its step raised the bound faster than the tangential load
 // (|dF_x| < mu dF_z, Mindlin-Deresiewicz: no slip anywhere). Returns how many there were.
 int check_rising_peaks_stick(const fs::path& out) {
-  std::ifstream in(out / "timeseries.csv");
-  std::string header;
-  std::getline(in, header);
-  std::vector<std::string> names;
-  std::stringstream hs(header);
-  for (std::string c; std::getline(hs, c, ',');) names.push_back(c);
-  auto col = [&](const char* n) {
-    return std::find(names.begin(), names.end(), n) - names.begin();
-  };
-  const auto fz = col("Fz"), fx = col("Fx"), slip = col("slip_area"), turning = col("turning");
-  std::vector<double> prev;
+  auto ts = fretbem_test::csv_columns(out / "timeseries.csv");
+  const std::vector<double>&fz = ts["Fz"], &fx = ts["Fx"], &slip = ts["slip_area"];
   int rising = 0;
-  for (std::string line; std::getline(in, line);) {
-    std::vector<double> v;
-    std::stringstream ls(line);
-    for (std::string c; std::getline(ls, c, ',');) v.push_back(std::stod(c));
-    if (!prev.empty() && v[turning] == 1 && v[fz] > prev[fz]) {
+  for (std::size_t k = 1; k < fz.size(); ++k)
+    if (ts["turning"][k] == 1 && fz[k] > fz[k - 1]) {
       ++rising;
-      EXPECT_LT(std::abs(v[fx] - prev[fx]), 0.5 * (v[fz] - prev[fz])) << line;
-      EXPECT_EQ(v[slip], 0.0) << line;
+      EXPECT_LT(std::abs(fx[k] - fx[k - 1]), 0.5 * (fz[k] - fz[k - 1])) << "row " << k;
+      EXPECT_EQ(slip[k], 0.0) << "row " << k;
     }
-    prev = v;
-  }
   return rising;
 }
 

@@ -21,6 +21,7 @@
 
 #include "support/child_process.hpp"
 #include "support/temp_dir.hpp"
+#include "support/varying_normal_table.hpp"
 
 namespace fs = std::filesystem;
 
@@ -354,12 +355,7 @@ TEST(WearResume, ErkResumeKeepsTheAcceptedFlagsOfAStateThatHasItsRow) {
 // depth, the same in both runs).
 TEST(WearResume, StretchAcrossSnapshotsResumesAsUninterrupted) {
   const fs::path table = fresh_dir("stretch_table.csv");
-  std::ofstream(table)
-      << "time,Fz,Fx\n0,2.5088,0\n0.0833333,3.1606054,0.4740908\n0.1666667,3.1606054,0.8211494\n"
-         "0.25,2.5088,0.75264\n0.3333333,1.8569946,0.4824614\n0.4166667,1.8569946,0.2785492\n"
-         "0.5,2.5088,0\n0.5833333,3.1606054,-0.4740908\n0.6666667,3.1606054,-0.8211494\n"
-         "0.75,2.5088,-0.75264\n0.8333333,1.8569946,-0.4824614\n"
-         "0.9166667,1.8569946,-0.2785492\n1,2.5088,0\n";
+  std::ofstream(table) << fretbem_test::kTwelveRowVaryingTable;
   const fs::path ini = fresh_dir("stretch.ini");
   std::ofstream(ini) << "[material]\nE = 5e9\nnu = 0.25\nmu = 0.5\n[grid]\nn = 16\n"
                         "length = 2.8e-4\n[surface]\ntype = rough\nmethod = midpoint\n"

@@ -14,6 +14,7 @@
 #include "fretbem/scenario/scenario.hpp"
 #include "fretbem/wear/integrator.hpp"
 #include "support/temp_dir.hpp"
+#include "support/varying_normal_table.hpp"
 
 using namespace fretbem;
 namespace fs = std::filesystem;
@@ -299,13 +300,7 @@ TEST(WearPaths, VaryingNormalLoadOdeMatchesCycleMode) {
 // depth is cycle mode's within one cycle's wear of it, 1/N: the ODE's map is the periodic
 // cycle, where cycle mode's first period is the virgin loading (measured +3.1e-3 and +4.2e-3).
 TEST(WearPaths, CostlyStepsAcrossSnapshotsCostAtMostTwiceEveryCycle) {
-  const fs::path f = table_file(
-      "fz30",
-      "time,Fz,Fx\n0,2.5088,0\n0.0833333,3.1606054,0.4740908\n0.1666667,3.1606054,0.8211494\n"
-      "0.25,2.5088,0.75264\n0.3333333,1.8569946,0.4824614\n0.4166667,1.8569946,0.2785492\n"
-      "0.5,2.5088,0\n0.5833333,3.1606054,-0.4740908\n0.6666667,3.1606054,-0.8211494\n"
-      "0.75,2.5088,-0.75264\n0.8333333,1.8569946,-0.4824614\n0.9166667,1.8569946,-0.2785492\n"
-      "1,2.5088,0\n");
+  const fs::path f = table_file("fz30", fretbem_test::kTwelveRowVaryingTable);
   const double N = 100;
   auto rough = [&](const char* integrator) {
     return "[material]\nE = 5e9\nnu = 0.25\nmu = 0.5\n[grid]\nn = 16\nlength = 2.8e-4\n"
